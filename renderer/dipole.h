@@ -1,0 +1,30 @@
+/* dipole.h - Jensen et al. 2001 dipole diffusion profile, Fresnel terms and the radial sampling table.
+ * All lengths in millimetres, coefficients in mm^-1, double precision. */
+#ifndef LUCENT_DIPOLE_H
+#define LUCENT_DIPOLE_H
+
+/* Derived quantities for one colour channel. */
+struct dipole {
+    double sigma_a, sigma_s_prime, eta;
+    double sigma_t_prime;   /* sigma_a + sigma_s' */
+    double alpha_prime;     /* reduced albedo sigma_s' / sigma_t' */
+    double sigma_tr;        /* effective transport coefficient; 0 when sigma_a = 0 */
+    double z_r, z_v;        /* real source depth, virtual source height */
+};
+
+double dipole_fdr(double eta);                 /* diffuse Fresnel reflectance (Groenhuis fit) */
+double dipole_boundary_a(double eta);          /* A = (1 + F_dr) / (1 - F_dr) */
+void dipole_init(struct dipole *d, double sigma_a, double sigma_s_prime, double eta);
+double dipole_rd(const struct dipole *d, double r);   /* R_d(r), mm^-2 */
+double dipole_rd_total(const struct dipole *d);       /* closed-form plane integral of R_d */
+/* Unpolarized Fresnel transmittance 1 - F_r entering a medium of relative index eta >= 1
+ * at incidence cosine cos_i (clamped to [0,1]). */
+double fresnel_transmittance(double eta, double cos_i);
+
+/* Stratified radii r_j = CDF^-1((j + 1/2) / n) of the profile 2 pi r R_d(r) truncated at r_max,
+ * and the truncated integral. weight_j = r_trunc / R_d(r_j) turns a sample at r_j into an
+ * unbiased estimate of the integral. n <= 256. Returns the truncated integral. */
+double dipole_sample_radii(const struct dipole *d, double r_max, int n, double *radii,
+                           double *weights);
+
+#endif

@@ -1,0 +1,219 @@
+/* frame_plan.c - turns a validated scene and a mesh into the uniforms and matrices of one frame.
+ * Coordinates here are mesh-centred scene units; the request's are shifted by the mesh centre. */
+#include "frame_plan.h"
+
+#include "dipole.h"
+#include "linalg.h"
+#include "view_frame.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Margin around the bounding sphere so silhouettes never touch an image border. */
+#define FIT_MARGIN 1.02
+#define PI 3.14159265358979323846
+#define DEG (PI / 180.0)
+#define GOLDEN_ANGLE 2.39996322972865332
+
+static void centred(const double p[3], const struct lucent_mesh *mesh, double out[3])
+{
+    for (int i = 0; i < 3; i++)
+        out[i] = p[i] - mesh->center[i];
+}
+
+static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh *mesh,
+                                 struct frame_plan *plan, lucent_error *err)
+{
+    double aspect = (double)s->width / s->height;
+    double half_v = s->camera.fov_deg * 0.5 * DEG;
+    double tan_v = tan(half_v), tan_h = tan_v * aspect;
+    double eye[3], forward[3], up[3] = {0, 1, 0};
+    double radius = mesh->radius * FIT_MARGIN;
+    if (s->camera.given) {
+        double target[3];
+        centred(s->camera.position, mesh, eye);
+        centred(s->camera.target, mesh, target);
+        for (int i = 0; i < 3; i++) {
+            forward[i] = target[i] - eye[i];
+            up[i] = s->camera.up[i];
+        }
+    } else {
+        double half_min = atan(fmin(tan_v, tan_h));
+        double dist = radius / sin(half_min);
+        eye[0] = 0, eye[1] = 0, eye[2] = dist;
+        forward[0] = 0, forward[1] = 0, forward[2] = -1;
+    }
+    struct view_frame cam = {.perspective = 1, .half_w = tan_h, .half_h = tan_v};
+    if (view_frame_look(&cam, eye, forward, up) != 0)
+        return lucent_fail(err, LUCENT_E_INVALID, "camera.up",
+                           "must not be parallel to the viewing direction");
+    double depth_forward = v3_dot(cam.forward, eye) * -1.0;  /* centre's depth along forward */
+    cam.far = fmax(depth_forward + radius, radius * 1e-3);
+    /* Inside the bounding sphere the near plane cannot clear the object: keep it tiny but
+     * proportional, so depth precision follows the object's size. */
+    cam.near = fmax(depth_forward - radius, radius * 1e-4);
+    if (cam.near >= cam.far)
+        cam.near = cam.far * 1e-4;
+    double clip[16];
+    view_frame_clip(&cam, clip);
+    m4_to_float(clip, plan->camera_clip);
+    v3_copy_f4(eye, 0.0, plan->camera_eye);
+    v3_copy_f4(eye, 0.0, plan->uniforms.camera_eye);
+
+    /* The projection images: front plus the four sides, in the camera's own frame. */
+    double up_cam[3] = {-cam.down[0], -cam.down[1], -cam.down[2]};
+    double left_dir[3] = {cam.right[0], cam.right[1], cam.right[2]};
+    double right_dir[3] = {-cam.right[0], -cam.right[1], -cam.right[2]};
+    double top_dir[3] = {cam.down[0], cam.down[1], cam.down[2]};
+    double bottom_dir[3] = {-cam.down[0], -cam.down[1], -cam.down[2]};
+    const double *dirs[FRAME_MAX_VIEWS] = {cam.forward, left_dir, right_dir, top_dir, bottom_dir};
+    const double *ups[FRAME_MAX_VIEWS] = {up_cam, up_cam, up_cam, cam.forward, cam.forward};
+    struct frame_uniforms *u = &plan->uniforms;
+    double texel = 2.0 * radius / s->projection_size;
+    for (int k = 0; k < FRAME_MAX_VIEWS; k++) {
+        struct view_frame v = {.perspective = 0, .half_w = radius, .half_h = radius,
+                               .near = radius * 0.5, .far = radius * 3.5};
+        double veye[3];
+        v3_scale_add((double[3]){0, 0, 0}, dirs[k], -2.0 * radius, veye);
+        view_frame_look(&v, veye, dirs[k], ups[k]);
+        view_frame_clip(&v, clip);
+        m4_to_float(clip, u->view_clip[k]);
+        double origin[3];
+        v3_scale_add(veye, v.right, -radius, origin);
+        v3_scale_add(origin, v.down, -radius, origin);
+        double du[3], dv[3], zero[3] = {0, 0, 0};
+        v3_scale_add(zero, v.right, texel, du);
+        v3_scale_add(zero, v.down, texel, dv);
+        v3_copy_f4(origin, 0.0, u->view_origin[k]);
+        v3_copy_f4(du, 0.0, u->view_du[k]);
+        v3_copy_f4(dv, 0.0, u->view_dv[k]);
+        v3_copy_f4(v.forward, 0.0, u->view_dir[k]);
+    }
+    u->proj[0] = (float)texel;
+    u->proj[1] = (float)s->projection_size;
+    return LUCENT_OK;
+}
+
+/* A light needs a shadow map only when the mesh can occlude it from itself. */
+static const char *shadow_skip_reason(const lucent_light *l, const struct lucent_mesh *mesh,
+                                      const double pos[3])
+{
+    if (l->intensity == 0.0 || (l->color[0] == 0.0 && l->color[1] == 0.0 && l->color[2] == 0.0))
+        return "skipped: light is black";
+    if (mesh->convex)
+        return "skipped: mesh is convex, n.l already hides every occluded point";
+    if (l->type == LUCENT_LIGHT_POINT && v3_length(pos) <= mesh->radius * FIT_MARGIN)
+        return "skipped: point light inside the bounding sphere (unshadowed)";
+    return NULL;
+}
+
+static void plan_shadow(const lucent_light *l, const double pos[3], double radius, float clip_out[16],
+                        float depth_out[4])
+{
+    struct view_frame v = {0};
+    double up[3], eye[3];
+    if (l->type == LUCENT_LIGHT_POINT) {
+        double dist = v3_length(pos);
+        double fwd[3] = {-pos[0], -pos[1], -pos[2]};
+        view_frame_any_up(fwd, up);
+        view_frame_look(&v, pos, fwd, up);
+        v.perspective = 1;
+        v.half_w = v.half_h = tan(asin(fmin(radius / dist, 1.0)));
+        v.near = fmax(dist - radius, dist * 1e-3);
+        v.far = dist + radius;
+        depth_out[2] = 1.0f;
+        depth_out[3] = (float)(4.0 * v.half_w * dist / SHADOW_MAP_SIZE);
+    } else {
+        view_frame_any_up(l->direction, up);
+        v3_scale_add((double[3]){0, 0, 0}, l->direction, -2.0 * radius, eye);
+        view_frame_look(&v, eye, l->direction, up);
+        v.half_w = v.half_h = radius;
+        v.near = radius * 0.5;
+        v.far = radius * 3.5;
+        depth_out[2] = 0.0f;
+        depth_out[3] = (float)(4.0 * radius / SHADOW_MAP_SIZE);
+    }
+    depth_out[0] = (float)v.near;
+    depth_out[1] = (float)v.far;
+    double clip[16];
+    view_frame_clip(&v, clip);
+    m4_to_float(clip, clip_out);
+}
+
+static void plan_lights(const lucent_scene *s, const struct lucent_mesh *mesh,
+                        struct frame_plan *plan)
+{
+    struct frame_uniforms *u = &plan->uniforms;
+    double radius = mesh->radius * FIT_MARGIN;
+    plan->shadow_count = 0;
+    for (int l = 0; l < s->light_count; l++) {
+        const lucent_light *light = &s->lights[l];
+        double pos[3];
+        centred(light->position, mesh, pos);
+        if (light->type == LUCENT_LIGHT_POINT)
+            v3_copy_f4(pos, 1.0, u->light_vec[l]);
+        else
+            v3_copy_f4(light->direction, 0.0, u->light_vec[l]);
+        for (int c = 0; c < 3; c++)
+            u->light_rgb[l][c] = (float)(light->color[c] * light->intensity);
+        const char *skip = shadow_skip_reason(light, mesh, pos);
+        plan->shadow_reason[l] = skip ? skip : "shadow map";
+        u->light_rgb[l][3] = skip ? -1.0f : (float)plan->shadow_count;
+        if (skip)
+            continue;
+        plan->shadow_mask |= 1u << l;
+        plan_shadow(light, pos, radius, u->light_clip[l], u->light_depth[l]);
+        memcpy(plan->shadow_clip[plan->shadow_count], u->light_clip[l], sizeof u->light_clip[l]);
+        plan->shadow_count++;
+    }
+}
+
+static void plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
+                          struct frame_plan *plan)
+{
+    struct frame_uniforms *u = &plan->uniforms;
+    /* Light cannot travel further than across the object; truncating the profile there keeps
+     * sigma_a = 0 (an infinite diffusion length) finite. */
+    double r_max = 2.0 * mesh->radius * plan->scale_mm;
+    double radii[LUCENT_MAX_SAMPLES], weights[LUCENT_MAX_SAMPLES];
+    for (int c = 0; c < 3; c++) {
+        struct dipole d;
+        dipole_init(&d, s->material.sigma_a[c], s->material.sigma_s_prime[c], s->material.eta);
+        u->sigma_tr[c] = (float)d.sigma_tr;
+        u->z_r[c] = (float)d.z_r;
+        u->z_v[c] = (float)d.z_v;
+        u->alpha_prime[c] = (float)d.alpha_prime;
+        dipole_sample_radii(&d, r_max, s->samples, radii, weights);
+        for (int j = 0; j < s->samples; j++) {
+            /* A golden-angle spiral, turned by a third for each channel so the three channels'
+             * samples do not land on the same texels. */
+            double phi = j * GOLDEN_ANGLE + c * 2.0 * PI / 3.0;
+            float *sample = u->samples[c * LUCENT_MAX_SAMPLES + j];
+            sample[0] = (float)radii[j];
+            sample[1] = (float)weights[j];
+            sample[2] = (float)cos(phi);
+            sample[3] = (float)sin(phi);
+        }
+    }
+    u->params[0] = (float)s->material.eta;
+    u->params[2] = (float)s->samples;
+}
+
+lucent_status frame_plan_build(const lucent_scene *scene, const struct lucent_mesh *mesh,
+                               double proxy_tolerance, struct frame_plan *plan, lucent_error *err)
+{
+    memset(plan, 0, sizeof *plan);
+    plan->scale_mm = scene->scale_mm > 0.0 ? scene->scale_mm : 50.0 / (2.0 * mesh->radius);
+    plan->view_count = scene->method == LUCENT_METHOD_SINGLE ? 1 : FRAME_MAX_VIEWS;
+    plan->light_count = scene->light_count;
+    lucent_status st = plan_camera(scene, mesh, plan, err);
+    if (st != LUCENT_OK)
+        return st;
+    plan_lights(scene, mesh, plan);
+    plan_material(scene, mesh, plan);
+    struct frame_uniforms *u = &plan->uniforms;
+    u->params[3] = (float)plan->view_count;
+    u->proj[2] = (float)plan->scale_mm;
+    u->proj[3] = (float)(proxy_tolerance + mesh->radius * 1e-5);
+    return LUCENT_OK;
+}

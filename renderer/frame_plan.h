@@ -1,0 +1,31 @@
+/* frame_plan.h - everything one render needs decided on the CPU before recording commands:
+ * views, shadow maps worth drawing, the dipole sample tables, and what was skipped and why. */
+#ifndef LUCENT_FRAME_PLAN_H
+#define LUCENT_FRAME_PLAN_H
+
+#include "frame_uniforms.h"
+#include "lucent.h"
+#include "mesh.h"
+
+struct frame_plan {
+    struct frame_uniforms uniforms;
+    float camera_clip[16];
+    float camera_eye[4];
+    int view_count;                         /* 1 (single) or 5 */
+    int shadow_count;                       /* shadow maps to draw */
+    uint32_t shadow_mask;                   /* bit l: light l reads shadow map */
+    int light_count;
+    float shadow_clip[LUCENT_MAX_LIGHTS][16];
+    double scale_mm;                        /* resolved millimetres per scene unit */
+    const char *shadow_reason[LUCENT_MAX_LIGHTS];  /* why light l has or has no shadow map */
+};
+
+/* Side of every shadow map, texels. */
+#define SHADOW_MAP_SIZE 1024
+
+/* proxy_tolerance: how far (scene units) the projection passes' geometry may stray from the
+ * camera's (a simplified proxy mesh), widening the visibility test. */
+lucent_status frame_plan_build(const lucent_scene *scene, const struct lucent_mesh *mesh,
+                               double proxy_tolerance, struct frame_plan *plan, lucent_error *err);
+
+#endif

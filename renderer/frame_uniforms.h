@@ -1,0 +1,30 @@
+/* frame_uniforms.h - C mirror of the std140 block in shaders/frame.glsl; keep the two in step.
+ * Filled once per frame by frame_setup.c, read by the projection and scatter shaders. */
+#ifndef LUCENT_FRAME_UNIFORMS_H
+#define LUCENT_FRAME_UNIFORMS_H
+
+#include "lucent.h"
+
+#define FRAME_MAX_VIEWS 5
+
+struct frame_uniforms {
+    float view_clip[FRAME_MAX_VIEWS][16];
+    float view_origin[FRAME_MAX_VIEWS][4];
+    float view_du[FRAME_MAX_VIEWS][4];
+    float view_dv[FRAME_MAX_VIEWS][4];
+    float view_dir[FRAME_MAX_VIEWS][4];
+    float light_vec[LUCENT_MAX_LIGHTS][4];
+    float light_rgb[LUCENT_MAX_LIGHTS][4];
+    float light_clip[LUCENT_MAX_LIGHTS][16];
+    float light_depth[LUCENT_MAX_LIGHTS][4];
+    float params[4];
+    float proj[4];
+    float camera_eye[4];
+    float sigma_tr[4];
+    float z_r[4];
+    float z_v[4];
+    float alpha_prime[4];
+    float samples[3 * LUCENT_MAX_SAMPLES][4];
+};
+
+#endif

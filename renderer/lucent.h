@@ -1,0 +1,195 @@
+/* lucent.h - public interface of liblucent, the translucent-object renderer.
+ * Plain structs in, images out; every fallible call returns a lucent_status and fills a lucent_error. */
+#ifndef LUCENT_H
+#define LUCENT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum lucent_status {
+    LUCENT_OK = 0,
+    LUCENT_E_INVALID,   /* the request or scene is wrong: error.field names what */
+    LUCENT_E_MESH,      /* a mesh could not be read or has no usable triangles */
+    LUCENT_E_LIMIT,     /* a value is outside a documented limit */
+    LUCENT_E_IO,        /* a file could not be read or written */
+    LUCENT_E_NOMEM,
+    LUCENT_E_VULKAN,    /* the GPU side failed; the message says which call */
+    LUCENT_E_INTERNAL
+} lucent_status;
+
+/* What went wrong, in words a user can act on. `field` is a JSON path such as
+ * "material.sigma_a[1]" when one input is to blame, else empty. */
+typedef struct lucent_error {
+    lucent_status status;
+    char field[96];
+    char message[320];
+} lucent_error;
+
+/* Fills err (when not NULL) and returns status; printf-style message. */
+lucent_status lucent_fail(lucent_error *err, lucent_status status, const char *field,
+                          const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 4, 5)))
+#endif
+    ;
+const char *lucent_status_name(lucent_status s);
+
+/* ---- Limits (documented in README; enforced by the scene parser) ---- */
+#define LUCENT_MAX_LIGHTS 4
+#define LUCENT_MAX_IMAGE_SIDE 4096
+#define LUCENT_MIN_PROJECTION_SIZE 16
+#define LUCENT_MAX_PROJECTION_SIZE 2048
+#define LUCENT_MAX_SAMPLES 64
+#define LUCENT_MAX_TRIANGLES 4000000u
+#define LUCENT_MAX_BUILTIN_TRIANGLES 2000000u
+#define LUCENT_MIN_BUILTIN_TRIANGLES 1000u  /* below this no tessellation lands within 2% of a request */
+#define LUCENT_MIN_ETA 1.0
+#define LUCENT_MAX_ETA 3.0
+#define LUCENT_MAX_SIGMA 1.0e5       /* mm^-1 */
+#define LUCENT_MIN_SIGMA_S_PRIME 1.0e-6
+#define LUCENT_MIN_SCALE_MM 1.0e-6
+#define LUCENT_MAX_SCALE_MM 1.0e9
+#define LUCENT_MAX_INTENSITY 1.0e12
+#define LUCENT_MAX_EXPOSURE 64.0     /* stops, either way */
+
+/* ---- Scene ---- */
+typedef enum lucent_method { LUCENT_METHOD_FIVE = 0, LUCENT_METHOD_SINGLE } lucent_method;
+typedef enum lucent_format { LUCENT_FORMAT_PNG = 0, LUCENT_FORMAT_EXR } lucent_format;
+typedef enum lucent_light_type { LUCENT_LIGHT_DIRECTIONAL = 0, LUCENT_LIGHT_POINT } lucent_light_type;
+typedef enum lucent_mesh_source { LUCENT_MESH_BUILTIN = 0, LUCENT_MESH_FILE } lucent_mesh_source;
+
+typedef struct lucent_mesh_ref {
+    lucent_mesh_source source;
+    char builtin[32];      /* "sphere", "torus", "protrusion" */
+    uint32_t triangles;    /* builtin only; 0 = the mesh's default density */
+    char file[1024];       /* LUCENT_MESH_FILE: path on the local disk */
+} lucent_mesh_ref;
+
+/* Coefficients in mm^-1 per RGB channel (Jensen et al. 2001). */
+typedef struct lucent_material {
+    char preset[32];       /* "" when given as coefficients */
+    double sigma_a[3];
+    double sigma_s_prime[3];
+    double eta;
+} lucent_material;
+
+typedef struct lucent_light {
+    lucent_light_type type;
+    double direction[3];   /* directional: the way the light travels (normalized by the parser) */
+    double position[3];    /* point: scene units */
+    double color[3];       /* linear RGB */
+    double intensity;      /* directional: irradiance on a surface facing it;
+                            * point: irradiance at one scene unit, falling off as 1/d^2 */
+} lucent_light;
+
+typedef struct lucent_camera {
+    int given;             /* 0: automatic framing (from +Z, +Y up, 40 degrees) */
+    double position[3], target[3], up[3];
+    double fov_deg;        /* vertical */
+} lucent_camera;
+
+typedef struct lucent_scene {
+    lucent_mesh_ref mesh;
+    double scale_mm;       /* millimetres per scene unit; 0 = bounding-sphere diameter becomes 50 mm */
+    lucent_material material;
+    lucent_light lights[LUCENT_MAX_LIGHTS];
+    int light_count;
+    lucent_camera camera;
+    int width, height;
+    lucent_method method;
+    int samples;           /* per channel */
+    int projection_size;   /* side of each projection image, texels */
+    double background[4];  /* linear RGBA composited under the object on output */
+    double exposure;       /* stops: output = radiance * 2^exposure */
+    lucent_format format;
+} lucent_scene;
+
+/* Fills every field with its documented default. */
+void lucent_scene_defaults(lucent_scene *scene);
+
+/* Parses a scene document (the HTTP request body uses the same schema).
+ * allow_files = 0 rejects {"mesh": {"file": ...}} (the server passes 0). */
+lucent_status lucent_scene_parse(const char *json, size_t len, int allow_files,
+                                 lucent_scene *out, lucent_error *err);
+
+/* Looks up one of Jensen et al. 2001's measured materials by name (case-insensitive). */
+lucent_status lucent_material_preset(const char *name, lucent_material *out);
+/* Name of preset i (0-based) or NULL past the end. */
+const char *lucent_material_preset_name(int i);
+
+/* ---- Images ---- */
+/* Linear float image with the AOVs the renderer produces. Arrays are row-major, top row first.
+ * rgba: 4 floats/pixel (radiance, coverage alpha); depth: camera distance in scene units
+ * (0 where uncovered); normal: 3 floats/pixel, world space; view: chosen projection image
+ * 0 front, 1 left, 2 right, 3 top, 4 bottom, -1 uncovered. Any AOV may be NULL. */
+typedef struct lucent_image {
+    int width, height;
+    float *rgba;
+    float *depth;
+    float *normal;
+    float *view;
+} lucent_image;
+
+lucent_status lucent_image_alloc(lucent_image *img, int width, int height, lucent_error *err);
+void lucent_image_free(lucent_image *img);
+
+/* Encodes to PNG (8-bit sRGB, straight alpha = coverage) or EXR (float RGBA + AOV channels),
+ * applying exposure and compositing the background. *bytes is malloc'd; the caller frees it. */
+lucent_status lucent_image_encode(const lucent_image *img, lucent_format format, double exposure,
+                                  const double background[4], unsigned char **bytes, size_t *len,
+                                  lucent_error *err);
+lucent_status lucent_image_write(const char *path, const lucent_image *img, lucent_format format,
+                                 double exposure, const double background[4], lucent_error *err);
+/* Reads a PNG or EXR back (EXR: RGBA and any AOV channels present, else NULL). */
+lucent_status lucent_image_load(const char *path, lucent_image *out, lucent_error *err);
+
+/* ---- Meshes ---- */
+typedef struct lucent_mesh lucent_mesh;
+
+lucent_status lucent_mesh_builtin(const char *name, uint32_t triangles, lucent_mesh **out,
+                                  lucent_error *err);
+lucent_status lucent_mesh_import_file(const char *path, lucent_mesh **out, lucent_error *err);
+/* ext_hint is the format's file extension ("obj", "ply", "stl", "gltf", "glb"). */
+lucent_status lucent_mesh_import_memory(const void *data, size_t len, const char *ext_hint,
+                                        lucent_mesh **out, lucent_error *err);
+uint32_t lucent_mesh_triangle_count(const lucent_mesh *mesh);
+void lucent_mesh_free(lucent_mesh *mesh);
+
+/* ---- Renderer ---- */
+typedef struct lucent_renderer lucent_renderer;
+
+typedef struct lucent_renderer_desc {
+    const char *device_name;  /* substring of the Vulkan device name; NULL = $LUCENT_DEVICE or automatic */
+    int verbose;              /* log the chosen device and resource creation to stderr */
+} lucent_renderer_desc;
+
+/* Time of each pass (ms, measured on the device where it supports timestamps) and what was
+ * modelled. `modelled` holds a JSON object written by the renderer. */
+typedef struct lucent_stats {
+    double ms_mesh_load, ms_shadow, ms_projection, ms_gbuffer, ms_scatter, ms_readback, ms_total;
+    uint32_t triangles, proxy_triangles;
+    int shadow_maps, views;
+    char device[256];
+    char modelled[768];
+} lucent_stats;
+
+/* Renderers of one process share a Vulkan device per requested device name; it stays warm after
+ * the last renderer is destroyed, until lucent_shutdown() (call it before exit to release it). */
+lucent_renderer *lucent_renderer_create(const lucent_renderer_desc *desc, lucent_error *err);
+void lucent_renderer_destroy(lucent_renderer *r);
+/* Releases the devices no renderer uses any more. */
+void lucent_shutdown(void);
+/* Renders one frame. out is allocated here; free with lucent_image_free. stats may be NULL. */
+lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucent_image *out,
+                            lucent_stats *stats, lucent_error *err);
+/* Writes stats as one JSON object; returns the length or -1 if cap is too small. */
+int lucent_stats_json(const lucent_stats *stats, char *buf, size_t cap);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

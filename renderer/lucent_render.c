@@ -1,0 +1,145 @@
+/* lucent_render.c - the one-shot command-line renderer: reads a scene document, renders it once with
+ * liblucent and writes PNG or EXR; exit 0 on success, 1 on a rendering error, 2 on bad usage. */
+#include "lucent.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#define MAX_SCENE_BYTES (16u << 20)
+
+static const char usage[] =
+    "usage: lucent-render SCENE.json -o OUT.png|OUT.exr [--stats] [--device NAME] [--verbose]\n"
+    "  SCENE.json   scene document (see README); '-' reads standard input\n"
+    "  -o FILE      output image; the extension (.png or .exr) picks the format\n"
+    "  --stats      print pass times and what was modelled, as JSON on standard output\n"
+    "  --device S   use the first Vulkan device whose name contains S (else $LUCENT_DEVICE)\n"
+    "  --verbose    log the chosen device and resource creation to standard error\n";
+
+struct options {
+    const char *scene_path, *out_path, *device;
+    int stats, verbose;
+};
+
+static int parse_args(int argc, char **argv, struct options *o)
+{
+    memset(o, 0, sizeof *o);
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "-o") == 0 && i + 1 < argc)
+            o->out_path = argv[++i];
+        else if (strcmp(argv[i], "--device") == 0 && i + 1 < argc)
+            o->device = argv[++i];
+        else if (strcmp(argv[i], "--stats") == 0)
+            o->stats = 1;
+        else if (strcmp(argv[i], "--verbose") == 0)
+            o->verbose = 1;
+        else if ((argv[i][0] != '-' || strcmp(argv[i], "-") == 0) && !o->scene_path)
+            o->scene_path = argv[i];
+        else {
+            fprintf(stderr, "lucent-render: unexpected argument \"%s\"\n", argv[i]);
+            return -1;
+        }
+    }
+    if (!o->scene_path || !o->out_path) {
+        fprintf(stderr, "lucent-render: %s\n", !o->scene_path ? "no scene given" : "no output given (-o)");
+        return -1;
+    }
+    return 0;
+}
+
+/* Reads a whole file (or stdin for "-") up to MAX_SCENE_BYTES; returns NULL on failure. */
+static char *read_all(const char *path, size_t *len)
+{
+    FILE *f = strcmp(path, "-") == 0 ? stdin : fopen(path, "rb");
+    if (!f)
+        return NULL;
+    char *buf = malloc(MAX_SCENE_BYTES + 1);
+    size_t n = buf ? fread(buf, 1, MAX_SCENE_BYTES + 1, f) : 0;
+    int bad = !buf || ferror(f) || n > MAX_SCENE_BYTES;
+    if (f != stdin)
+        fclose(f);
+    if (bad) {
+        free(buf);
+        return NULL;
+    }
+    *len = n;
+    return buf;
+}
+
+static int format_from_path(const char *path, lucent_format *out)
+{
+    const char *dot = strrchr(path, '.');
+    if (dot && strcasecmp(dot, ".png") == 0)
+        *out = LUCENT_FORMAT_PNG;
+    else if (dot && strcasecmp(dot, ".exr") == 0)
+        *out = LUCENT_FORMAT_EXR;
+    else
+        return -1;
+    return 0;
+}
+
+static void report(const char *what, const lucent_error *err)
+{
+    fprintf(stderr, "lucent-render: %s: %s%s%s\n", what, err->field[0] ? err->field : "",
+            err->field[0] ? ": " : "", err->message);
+}
+
+int main(int argc, char **argv)
+{
+    struct options o;
+    if (parse_args(argc, argv, &o) != 0) {
+        fputs(usage, stderr);
+        return 2;
+    }
+    lucent_scene scene;
+    lucent_format format;
+    if (format_from_path(o.out_path, &format) != 0) {
+        fprintf(stderr, "lucent-render: output \"%s\" must end in .png or .exr\n", o.out_path);
+        return 2;
+    }
+    size_t len = 0;
+    char *json = read_all(o.scene_path, &len);
+    if (!json) {
+        fprintf(stderr, "lucent-render: cannot read scene \"%s\" (missing, unreadable or over %u bytes)\n",
+                o.scene_path, MAX_SCENE_BYTES);
+        return 2;
+    }
+    lucent_error err = {0};
+    lucent_status st = lucent_scene_parse(json, len, 1, &scene, &err);
+    free(json);
+    if (st != LUCENT_OK) {
+        report("invalid scene", &err);
+        return 2;
+    }
+    scene.format = format;
+
+    int rc = 1;
+    lucent_image img = {0};
+    lucent_stats stats;
+    lucent_renderer_desc desc = {.device_name = o.device, .verbose = o.verbose};
+    lucent_renderer *r = lucent_renderer_create(&desc, &err);
+    if (!r) {
+        report("cannot start the renderer", &err);
+        return 1;
+    }
+    if (lucent_render(r, &scene, &img, &stats, &err) != LUCENT_OK) {
+        report("render failed", &err);
+        goto done;
+    }
+    if (lucent_image_write(o.out_path, &img, format, scene.exposure, scene.background, &err) != LUCENT_OK) {
+        report("cannot write the image", &err);
+        goto done;
+    }
+    if (o.stats) {
+        char buf[2048];
+        if (lucent_stats_json(&stats, buf, sizeof buf) > 0)
+            puts(buf);
+    }
+    rc = 0;
+done:
+    lucent_image_free(&img);
+    lucent_renderer_destroy(r);
+    lucent_shutdown();
+    return rc;
+}

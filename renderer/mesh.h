@@ -1,0 +1,33 @@
+/* mesh.h - the in-memory triangle mesh every importer and generator produces.
+ * Positions are stored relative to the bounding-sphere centre so huge coordinates keep float precision. */
+#ifndef LUCENT_MESH_H
+#define LUCENT_MESH_H
+
+#include "lucent.h"
+
+struct lucent_mesh {
+    float *positions;         /* 3 floats per vertex, relative to center */
+    float *normals;           /* 3 floats per vertex, unit length, outward for closed meshes */
+    uint32_t *indices;        /* 3 per triangle, counter-clockwise seen from outside */
+    uint32_t vertex_count;
+    uint32_t triangle_count;
+    double center[3];         /* bounding-sphere centre in the source's own coordinates */
+    double radius;            /* bounding-sphere radius, scene units, > 0 */
+    int convex;               /* 1 only when known convex: no self-shadowing possible */
+};
+
+/* Completes a mesh whose positions/indices (absolute coordinates, malloc'd) are filled in:
+ * rejects non-finite coordinates and out-of-range indices, drops degenerate triangles
+ * (repeated index or zero area) and unused vertices, recentres, computes smooth area-weighted
+ * normals when normals == NULL, and sets center/radius. Fails with LUCENT_E_MESH when no
+ * usable triangle is left. On failure the mesh is left for the caller to free. */
+lucent_status mesh_finish(struct lucent_mesh *m, lucent_error *err);
+
+/* Allocates an empty mesh with room for the given counts (normals allocated too when with_normals). */
+struct lucent_mesh *mesh_alloc(uint32_t vertex_count, uint32_t triangle_count, int with_normals);
+
+/* A simplified copy with about target_triangles triangles (meshoptimizer), for projection passes
+ * on meshes far denser than a projection image. Returns NULL on allocation failure. */
+struct lucent_mesh *mesh_simplify(const struct lucent_mesh *src, uint32_t target_triangles);
+
+#endif

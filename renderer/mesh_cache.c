@@ -1,0 +1,132 @@
+/* mesh_cache.c - a small LRU of GPU-resident meshes. A file's key includes its size and mtime so an
+ * edited file is reloaded; builtins are keyed by name and triangle count. */
+#include "mesh_cache.h"
+
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
+}
+
+static lucent_status mesh_key(const lucent_mesh_ref *ref, char *key, size_t cap, lucent_error *err)
+{
+    if (ref->source == LUCENT_MESH_BUILTIN) {
+        snprintf(key, cap, "builtin:%s:%u", ref->builtin, ref->triangles);
+        return LUCENT_OK;
+    }
+    struct stat sb;
+    if (stat(ref->file, &sb) != 0)
+        return lucent_fail(err, LUCENT_E_IO, "mesh.file", "cannot read \"%s\"", ref->file);
+    snprintf(key, cap, "file:%s:%lld:%lld.%09ld", ref->file, (long long)sb.st_size,
+             (long long)sb.st_mtim.tv_sec, (long)sb.st_mtim.tv_nsec);
+    return LUCENT_OK;
+}
+
+static lucent_status upload(struct vk_context *ctx, const void *data, VkDeviceSize size,
+                            VkBufferUsageFlags usage, struct vk_buffer *out, lucent_error *err)
+{
+    lucent_status st = vk_buffer_create(ctx, size, usage, out, err);
+    if (st == LUCENT_OK)
+        memcpy(out->mapped, data, size);
+    return st;
+}
+
+static void geometry_destroy(struct vk_context *ctx, struct gpu_geometry *g)
+{
+    vk_buffer_destroy(ctx, &g->positions);
+    vk_buffer_destroy(ctx, &g->normals);
+    vk_buffer_destroy(ctx, &g->indices);
+    g->index_count = 0;
+}
+
+static lucent_status geometry_create(struct vk_context *ctx, const struct lucent_mesh *m,
+                                     struct gpu_geometry *g, lucent_error *err)
+{
+    VkDeviceSize vbytes = (VkDeviceSize)m->vertex_count * 3 * sizeof(float);
+    lucent_status st;
+    if ((st = upload(ctx, m->positions, vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, &g->positions, err)) ||
+        (st = upload(ctx, m->normals, vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, &g->normals, err)) ||
+        (st = upload(ctx, m->indices, (VkDeviceSize)m->triangle_count * 3 * sizeof(uint32_t),
+                     VK_BUFFER_USAGE_INDEX_BUFFER_BIT, &g->indices, err))) {
+        geometry_destroy(ctx, g);
+        return st;
+    }
+    g->index_count = m->triangle_count * 3;
+    return LUCENT_OK;
+}
+
+static void slot_clear(struct vk_context *ctx, struct gpu_mesh *s)
+{
+    geometry_destroy(ctx, &s->full);
+    geometry_destroy(ctx, &s->proxy);
+    lucent_mesh_free(s->mesh);
+    memset(s, 0, sizeof *s);
+}
+
+static lucent_status slot_load(struct vk_context *ctx, const lucent_mesh_ref *ref, struct gpu_mesh *s,
+                               lucent_error *err)
+{
+    lucent_status st = ref->source == LUCENT_MESH_BUILTIN
+                           ? lucent_mesh_builtin(ref->builtin, ref->triangles, &s->mesh, err)
+                           : lucent_mesh_import_file(ref->file, &s->mesh, err);
+    if (st != LUCENT_OK)
+        return st;
+    if ((st = geometry_create(ctx, s->mesh, &s->full, err)) != LUCENT_OK)
+        return st;
+    if (s->mesh->triangle_count > PROXY_THRESHOLD) {
+        struct lucent_mesh *proxy = mesh_simplify(s->mesh, PROXY_TRIANGLES);
+        if (!proxy)
+            return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory simplifying the mesh");
+        s->proxy_triangles = proxy->triangle_count;
+        st = geometry_create(ctx, proxy, &s->proxy, err);
+        lucent_mesh_free(proxy);
+    }
+    return st;
+}
+
+lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, const lucent_mesh_ref *ref,
+                             struct gpu_mesh **out, double *load_ms, lucent_error *err)
+{
+    char key[sizeof cache->slots[0].key];
+    lucent_status st = mesh_key(ref, key, sizeof key, err);
+    if (st != LUCENT_OK)
+        return st;
+    *load_ms = 0.0;
+    struct gpu_mesh *victim = &cache->slots[0];
+    for (int i = 0; i < MESH_CACHE_SLOTS; i++) {
+        struct gpu_mesh *s = &cache->slots[i];
+        if (s->mesh && strcmp(s->key, key) == 0) {
+            s->last_used = ++cache->clock;
+            *out = s;
+            return LUCENT_OK;
+        }
+        if (!s->mesh || (victim->mesh && s->last_used < victim->last_used))
+            victim = s;
+    }
+    double t0 = now_ms();
+    /* The GPU may still read the evicted buffers only if a frame were in flight; frames are
+     * synchronous, so none is. */
+    slot_clear(ctx, victim);
+    st = slot_load(ctx, ref, victim, err);
+    if (st != LUCENT_OK) {
+        slot_clear(ctx, victim);
+        return st;
+    }
+    snprintf(victim->key, sizeof victim->key, "%s", key);
+    victim->last_used = ++cache->clock;
+    *load_ms = now_ms() - t0;
+    *out = victim;
+    return LUCENT_OK;
+}
+
+void mesh_cache_destroy(struct vk_context *ctx, struct mesh_cache *cache)
+{
+    for (int i = 0; i < MESH_CACHE_SLOTS; i++)
+        slot_clear(ctx, &cache->slots[i]);
+}

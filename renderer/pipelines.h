@@ -1,0 +1,44 @@
+/* pipelines.h - render passes, layouts and pipelines of the four passes (shadow, projection,
+ * camera G-buffer, scatter). Created once per renderer from the SPIR-V embedded at build time. */
+#ifndef LUCENT_PIPELINES_H
+#define LUCENT_PIPELINES_H
+
+#include "vk_context.h"
+
+#define PROJECTION_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT  /* flux + depth: fp16 over/underflows */
+#define GBUFFER_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
+#define DEPTH_FORMAT VK_FORMAT_D32_SFLOAT
+
+/* Index into projection_pass/projection: one view (method "single") or five (multiview). */
+enum { PROJECTION_ONE = 0, PROJECTION_FIVE = 1 };
+
+/* Projection pipelines are specialized by view count, light count and which lights are shadowed:
+ * CPU drivers pay for every branch, taken or not. Built on first use, kept for the renderer's life. */
+#define PROJECTION_VARIANTS (2 * LUCENT_MAX_LIGHTS * (1 << LUCENT_MAX_LIGHTS))
+
+struct pipelines {
+    VkRenderPass shadow_pass;
+    VkRenderPass projection_pass[2];
+    VkRenderPass gbuffer_pass;
+    VkDescriptorSetLayout projection_set_layout;
+    VkDescriptorSetLayout scatter_set_layout;
+    VkPipelineLayout shadow_layout, projection_layout, gbuffer_layout, scatter_layout;
+    VkPipeline shadow, gbuffer, scatter;
+    VkPipeline projection[PROJECTION_VARIANTS];
+    VkSampler nearest;
+    VkSampler shadow_compare;   /* depth comparison with 2x2 filtering (PCF) */
+};
+
+struct gbuffer_push {
+    float clip_from_world[16];
+    float eye[4];
+};
+
+lucent_status pipelines_create(struct vk_context *ctx, struct pipelines *p, lucent_error *err);
+/* The projection pipeline for `which` (PROJECTION_ONE/FIVE), 1..LUCENT_MAX_LIGHTS lights and a
+ * shadow mask (bit l: light l is shadowed), created on first use. */
+lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, int which, int lights,
+                                   uint32_t shadow_mask, VkPipeline *out, lucent_error *err);
+void pipelines_destroy(struct vk_context *ctx, struct pipelines *p);
+
+#endif

@@ -1,0 +1,188 @@
+/* render_targets.c - creates the per-size GPU resources and wires them into descriptor sets.
+ * Everything here is owned by struct render_targets and freed by render_targets_destroy. */
+#include "render_targets.h"
+
+#include <string.h>
+
+static lucent_status make_framebuffer(struct vk_context *ctx, VkRenderPass pass, const VkImageView *views,
+                                      uint32_t count, uint32_t w, uint32_t h, VkFramebuffer *out,
+                                      lucent_error *err)
+{
+    lucent_status st = LUCENT_OK;
+    VkFramebufferCreateInfo ci = {.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO, .renderPass = pass,
+                                  .attachmentCount = count, .pAttachments = views, .width = w,
+                                  .height = h, .layers = 1};
+    VK_TRY(vkCreateFramebuffer(ctx->device, &ci, NULL, out), err);
+fail:
+    return st;
+}
+
+static lucent_status make_shadow_maps(struct vk_context *ctx, const struct pipelines *p,
+                                      struct render_targets *t, lucent_error *err)
+{
+    lucent_status st = vk_image_create(ctx, SHADOW_MAP_SIZE, SHADOW_MAP_SIZE, LUCENT_MAX_LIGHTS, DEPTH_FORMAT,
+                                       VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                       &t->shadow_depth, err);
+    for (uint32_t l = 0; st == LUCENT_OK && l < LUCENT_MAX_LIGHTS; l++) {
+        st = vk_image_layer_view(ctx, &t->shadow_depth, l, &t->shadow_layer[l], err);
+        if (st == LUCENT_OK)
+            st = make_framebuffer(ctx, p->shadow_pass, &t->shadow_layer[l], 1, SHADOW_MAP_SIZE,
+                                  SHADOW_MAP_SIZE, &t->shadow_fb[l], err);
+    }
+    return st;
+}
+
+static lucent_status make_projection(struct vk_context *ctx, const struct pipelines *p,
+                                     struct render_targets *t, lucent_error *err)
+{
+    uint32_t s = t->projection_size;
+    lucent_status st;
+    if ((st = vk_image_create(ctx, s, s, FRAME_MAX_VIEWS, PROJECTION_FORMAT,
+                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                              &t->projection, err)) ||
+        (st = vk_image_create(ctx, s, s, FRAME_MAX_VIEWS, DEPTH_FORMAT,
+                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, &t->projection_depth, err)))
+        return st;
+    VkImageView views[2] = {t->projection.view, t->projection_depth.view};
+    for (int i = PROJECTION_ONE; i <= PROJECTION_FIVE; i++)
+        if ((st = make_framebuffer(ctx, p->projection_pass[i], views, 2, s, s, &t->projection_fb[i], err)))
+            return st;
+    return LUCENT_OK;
+}
+
+static lucent_status make_gbuffer(struct vk_context *ctx, const struct pipelines *p, struct render_targets *t,
+                                  lucent_error *err)
+{
+    VkImageUsageFlags color = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    lucent_status st;
+    if ((st = vk_image_create(ctx, t->width, t->height, 1, GBUFFER_FORMAT, color, &t->gbuffer_position, err)) ||
+        (st = vk_image_create(ctx, t->width, t->height, 1, GBUFFER_FORMAT, color, &t->gbuffer_normal, err)) ||
+        (st = vk_image_create(ctx, t->width, t->height, 1, DEPTH_FORMAT,
+                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, &t->gbuffer_depth, err)))
+        return st;
+    VkImageView views[3] = {t->gbuffer_position.view, t->gbuffer_normal.view, t->gbuffer_depth.view};
+    return make_framebuffer(ctx, p->gbuffer_pass, views, 3, t->width, t->height, &t->gbuffer_fb, err);
+}
+
+static VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize a)
+{
+    return a > 1 ? (v + a - 1) / a * a : v;
+}
+
+static lucent_status make_output(struct vk_context *ctx, struct render_targets *t, lucent_error *err)
+{
+    VkDeviceSize pixels = (VkDeviceSize)t->width * t->height;
+    VkDeviceSize a = ctx->limits.minStorageBufferOffsetAlignment;
+    t->color_offset = 0;
+    t->normal_offset = align_up(pixels * 16, a);
+    t->depth_offset = align_up(t->normal_offset + pixels * 16, a);
+    return vk_buffer_create(ctx, t->depth_offset + pixels * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, &t->output, err);
+}
+
+static lucent_status make_descriptor_sets(struct vk_context *ctx, const struct pipelines *p,
+                                          const struct vk_buffer *uniforms, struct render_targets *t,
+                                          lucent_error *err)
+{
+    lucent_status st = LUCENT_OK;
+    VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
+                                    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3}};
+    VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO, .maxSets = 2,
+                                      .poolSizeCount = 3, .pPoolSizes = sizes};
+    VK_TRY(vkCreateDescriptorPool(ctx->device, &pci, NULL, &t->pool), err);
+    VkDescriptorSetLayout layouts[2] = {p->projection_set_layout, p->scatter_set_layout};
+    VkDescriptorSet sets[2];
+    VkDescriptorSetAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+                                      .descriptorPool = t->pool, .descriptorSetCount = 2, .pSetLayouts = layouts};
+    VK_TRY(vkAllocateDescriptorSets(ctx->device, &ai, sets), err);
+    t->projection_set = sets[0];
+    t->scatter_set = sets[1];
+
+    VkDescriptorBufferInfo ubo = {uniforms->buffer, 0, VK_WHOLE_SIZE};
+    VkImageLayout ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    VkDescriptorImageInfo shadow = {p->shadow_compare, t->shadow_depth.view, ro};
+    VkDescriptorImageInfo images[3] = {{p->nearest, t->projection.view, ro},
+                                       {p->nearest, t->gbuffer_position.view, ro},
+                                       {p->nearest, t->gbuffer_normal.view, ro}};
+    VkDeviceSize pixels = (VkDeviceSize)t->width * t->height;
+    VkDescriptorBufferInfo outs[3] = {{t->output.buffer, t->color_offset, pixels * 16},
+                                      {t->output.buffer, t->normal_offset, pixels * 16},
+                                      {t->output.buffer, t->depth_offset, pixels * 4}};
+#define WRITE(set, binding, type, img, buf) \
+    {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, NULL, set, binding, 0, 1, type, img, buf, NULL}
+    VkWriteDescriptorSet w[] = {
+        WRITE(t->projection_set, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, NULL, &ubo),
+        WRITE(t->projection_set, 1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &shadow, NULL),
+        WRITE(t->scatter_set, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, NULL, &ubo),
+        WRITE(t->scatter_set, 1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &images[0], NULL),
+        WRITE(t->scatter_set, 2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &images[1], NULL),
+        WRITE(t->scatter_set, 3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &images[2], NULL),
+        WRITE(t->scatter_set, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, &outs[0]),
+        WRITE(t->scatter_set, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, &outs[1]),
+        WRITE(t->scatter_set, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, &outs[2])};
+#undef WRITE
+    vkUpdateDescriptorSets(ctx->device, sizeof w / sizeof w[0], w, 0, NULL);
+fail:
+    return st;
+}
+
+/* Shadow layers that no frame has drawn yet are still bound for sampling: give them a valid layout. */
+static lucent_status prepare_shadow_layout(struct vk_context *ctx, struct render_targets *t, lucent_error *err)
+{
+    lucent_status st = LUCENT_OK;
+    VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                                   .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+    VK_TRY(vkBeginCommandBuffer(ctx->cmd, &bi), err);
+    VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                              .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+                              .newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                              .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                              .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED, .image = t->shadow_depth.image,
+                              .subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, LUCENT_MAX_LIGHTS},
+                              .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};
+    vkCmdPipelineBarrier(ctx->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0,
+                         0, NULL, 0, NULL, 1, &b);
+    VK_TRY(vkEndCommandBuffer(ctx->cmd), err);
+    st = vk_submit_and_wait(ctx, err);
+fail:
+    return st;
+}
+
+lucent_status render_targets_create(struct vk_context *ctx, const struct pipelines *p,
+                                    const struct vk_buffer *uniforms, uint32_t width, uint32_t height,
+                                    uint32_t projection_size, struct render_targets *t, lucent_error *err)
+{
+    lucent_status st;
+    memset(t, 0, sizeof *t);
+    t->width = width;
+    t->height = height;
+    t->projection_size = projection_size;
+    if ((st = make_shadow_maps(ctx, p, t, err)) || (st = make_projection(ctx, p, t, err)) ||
+        (st = make_gbuffer(ctx, p, t, err)) || (st = make_output(ctx, t, err)) ||
+        (st = make_descriptor_sets(ctx, p, uniforms, t, err)) || (st = prepare_shadow_layout(ctx, t, err))) {
+        render_targets_destroy(ctx, t);
+        return st;
+    }
+    return LUCENT_OK;
+}
+
+void render_targets_destroy(struct vk_context *ctx, struct render_targets *t)
+{
+    VkDevice d = ctx->device;
+    vkDestroyDescriptorPool(d, t->pool, NULL);
+    vk_buffer_destroy(ctx, &t->output);
+    vkDestroyFramebuffer(d, t->gbuffer_fb, NULL);
+    vk_image_destroy(ctx, &t->gbuffer_depth);
+    vk_image_destroy(ctx, &t->gbuffer_normal);
+    vk_image_destroy(ctx, &t->gbuffer_position);
+    for (int i = 0; i < 2; i++)
+        vkDestroyFramebuffer(d, t->projection_fb[i], NULL);
+    vk_image_destroy(ctx, &t->projection_depth);
+    vk_image_destroy(ctx, &t->projection);
+    for (int l = 0; l < LUCENT_MAX_LIGHTS; l++) {
+        vkDestroyFramebuffer(d, t->shadow_fb[l], NULL);
+        vkDestroyImageView(d, t->shadow_layer[l], NULL);
+    }
+    vk_image_destroy(ctx, &t->shadow_depth);
+    memset(t, 0, sizeof *t);
+}

@@ -1,0 +1,30 @@
+/* render_targets.h - the images, framebuffers, output buffer and descriptor sets whose size depends
+ * on the request (image size, projection size). Kept between frames; rebuilt only when a size changes. */
+#ifndef LUCENT_RENDER_TARGETS_H
+#define LUCENT_RENDER_TARGETS_H
+
+#include "frame_plan.h"
+#include "pipelines.h"
+#include "vk_resources.h"
+
+struct render_targets {
+    uint32_t width, height, projection_size;
+    struct vk_image shadow_depth;                 /* SHADOW_MAP_SIZE^2 x LUCENT_MAX_LIGHTS layers */
+    VkImageView shadow_layer[LUCENT_MAX_LIGHTS];
+    VkFramebuffer shadow_fb[LUCENT_MAX_LIGHTS];
+    struct vk_image projection, projection_depth; /* projection_size^2 x 5 layers */
+    VkFramebuffer projection_fb[2];
+    struct vk_image gbuffer_position, gbuffer_normal, gbuffer_depth;
+    VkFramebuffer gbuffer_fb;
+    struct vk_buffer output;                      /* color, normal+view, depth arrays */
+    VkDeviceSize color_offset, normal_offset, depth_offset;
+    VkDescriptorPool pool;
+    VkDescriptorSet projection_set, scatter_set;
+};
+
+lucent_status render_targets_create(struct vk_context *ctx, const struct pipelines *p,
+                                    const struct vk_buffer *uniforms, uint32_t width, uint32_t height,
+                                    uint32_t projection_size, struct render_targets *t, lucent_error *err);
+void render_targets_destroy(struct vk_context *ctx, struct render_targets *t);
+
+#endif

@@ -1,0 +1,118 @@
+/* vk_resources.c - allocation of buffers and images: one VkDeviceMemory each, which is plenty for
+ * the handful of long-lived resources a warm renderer holds. */
+#include "vk_resources.h"
+
+#include <string.h>
+
+static lucent_status allocate(struct vk_context *ctx, VkMemoryRequirements req,
+                              VkMemoryPropertyFlags want, VkDeviceMemory *out, lucent_error *err)
+{
+    lucent_status st = LUCENT_OK;
+    uint32_t type = vk_memory_type(ctx, req.memoryTypeBits, want);
+    if (type == UINT32_MAX)
+        return lucent_fail(err, LUCENT_E_VULKAN, "", "no memory type with flags 0x%x", (unsigned)want);
+    VkMemoryAllocateInfo mai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+                                .allocationSize = req.size, .memoryTypeIndex = type};
+    VK_TRY(vkAllocateMemory(ctx->device, &mai, NULL, out), err);
+fail:
+    return st;
+}
+
+lucent_status vk_buffer_create(struct vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usage,
+                               struct vk_buffer *out, lucent_error *err)
+{
+    lucent_status st = LUCENT_OK;
+    memset(out, 0, sizeof *out);
+    out->size = size;
+    VkBufferCreateInfo bci = {.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO, .size = size,
+                              .usage = usage, .sharingMode = VK_SHARING_MODE_EXCLUSIVE};
+    VK_TRY(vkCreateBuffer(ctx->device, &bci, NULL, &out->buffer), err);
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(ctx->device, out->buffer, &req);
+    st = allocate(ctx, req, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                  &out->memory, err);
+    if (st != LUCENT_OK)
+        goto fail;
+    VK_TRY(vkBindBufferMemory(ctx->device, out->buffer, out->memory, 0), err);
+    VK_TRY(vkMapMemory(ctx->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped), err);
+    return LUCENT_OK;
+fail:
+    vk_buffer_destroy(ctx, out);
+    return st;
+}
+
+void vk_buffer_destroy(struct vk_context *ctx, struct vk_buffer *b)
+{
+    if (b->buffer)
+        vkDestroyBuffer(ctx->device, b->buffer, NULL);
+    if (b->memory)
+        vkFreeMemory(ctx->device, b->memory, NULL);
+    memset(b, 0, sizeof *b);
+}
+
+static VkImageAspectFlags aspect_of(VkFormat format)
+{
+    return format == VK_FORMAT_D32_SFLOAT ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+}
+
+static lucent_status create_view(struct vk_context *ctx, const struct vk_image *img, uint32_t first,
+                                 uint32_t count, VkImageView *out, lucent_error *err)
+{
+    lucent_status st = LUCENT_OK;
+    VkImageViewCreateInfo vci = {
+        .sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO, .image = img->image,
+        .viewType = count > 1 || img->layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D,
+        .format = img->format,
+        .subresourceRange = {aspect_of(img->format), 0, 1, first, count}};
+    VK_TRY(vkCreateImageView(ctx->device, &vci, NULL, out), err);
+fail:
+    return st;
+}
+
+lucent_status vk_image_create(struct vk_context *ctx, uint32_t width, uint32_t height, uint32_t layers,
+                              VkFormat format, VkImageUsageFlags usage, struct vk_image *out,
+                              lucent_error *err)
+{
+    lucent_status st = LUCENT_OK;
+    memset(out, 0, sizeof *out);
+    out->format = format;
+    out->width = width;
+    out->height = height;
+    out->layers = layers;
+    VkImageCreateInfo ici = {
+        .sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO, .imageType = VK_IMAGE_TYPE_2D, .format = format,
+        .extent = {width, height, 1}, .mipLevels = 1, .arrayLayers = layers,
+        .samples = VK_SAMPLE_COUNT_1_BIT, .tiling = VK_IMAGE_TILING_OPTIMAL, .usage = usage,
+        .sharingMode = VK_SHARING_MODE_EXCLUSIVE, .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED};
+    VK_TRY(vkCreateImage(ctx->device, &ici, NULL, &out->image), err);
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(ctx->device, out->image, &req);
+    st = allocate(ctx, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, &out->memory, err);
+    if (st != LUCENT_OK)
+        goto fail;
+    VK_TRY(vkBindImageMemory(ctx->device, out->image, out->memory, 0), err);
+    st = create_view(ctx, out, 0, layers, &out->view, err);
+    if (st != LUCENT_OK)
+        goto fail;
+    return LUCENT_OK;
+fail:
+    vk_image_destroy(ctx, out);
+    return st;
+}
+
+void vk_image_destroy(struct vk_context *ctx, struct vk_image *img)
+{
+    if (img->view)
+        vkDestroyImageView(ctx->device, img->view, NULL);
+    if (img->image)
+        vkDestroyImage(ctx->device, img->image, NULL);
+    if (img->memory)
+        vkFreeMemory(ctx->device, img->memory, NULL);
+    memset(img, 0, sizeof *img);
+}
+
+lucent_status vk_image_layer_view(struct vk_context *ctx, const struct vk_image *img, uint32_t layer,
+                                  VkImageView *out, lucent_error *err)
+{
+    return create_view(ctx, img, layer, 1, out, err);
+}

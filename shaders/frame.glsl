@@ -1,0 +1,38 @@
+// frame.glsl - the per-frame uniform block shared by the projection and scatter shaders.
+// Mirrors struct frame_uniforms in renderer/frame_uniforms.h; std140, all world positions mesh-centred.
+#define MAX_VIEWS 5
+#define MAX_LIGHTS 4
+#define MAX_SAMPLES 64
+#define PI 3.14159265358979
+
+layout(std140, set = 0, binding = 0) uniform Frame {
+    mat4 view_clip[MAX_VIEWS];     // world -> clip of projection image k (orthographic)
+    vec4 view_origin[MAX_VIEWS];   // world position of texel corner (0,0) on the depth-0 plane
+    vec4 view_du[MAX_VIEWS];       // world step of one texel along x
+    vec4 view_dv[MAX_VIEWS];       // world step of one texel along y
+    vec4 view_dir[MAX_VIEWS];      // direction view k looks along; depth = dot(p - origin, dir)
+    vec4 light_vec[MAX_LIGHTS];    // xyz: travel direction or position; w: 0 directional, 1 point
+    vec4 light_rgb[MAX_LIGHTS];    // rgb: colour * intensity; w: shadow map layer
+    mat4 light_clip[MAX_LIGHTS];   // world -> shadow map clip
+    vec4 light_depth[MAX_LIGHTS];  // x near, y far, z 1 = perspective, w bias (scene units)
+    vec4 params;                   // x eta, y unused, z samples per channel, w view count
+    vec4 proj;                     // x texel size (scene units), y projection size, z mm per unit, w depth tolerance
+    vec4 camera_eye;               // xyz camera position
+    vec4 sigma_tr;                 // mm^-1 per channel
+    vec4 z_r;                      // mm
+    vec4 z_v;                      // mm
+    vec4 alpha_prime;
+    vec4 samples[3 * MAX_SAMPLES]; // channel c, sample j: x radius (mm), y weight r_trunc / R_d(x), zw unit direction
+} frame;
+
+// Unpolarized Fresnel transmittance entering a medium of relative index eta >= 1.
+float fresnel_transmittance(float eta, float cos_i)
+{
+    float c = clamp(cos_i, 0.0, 1.0);
+    if (c <= 0.0)
+        return 0.0;
+    float g = sqrt(eta * eta - 1.0 + c * c);
+    float a = (g - c) / (g + c);
+    float b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0);
+    return 1.0 - min(0.5 * a * a * (1.0 + b * b), 1.0);
+}

@@ -1,0 +1,16 @@
+// gbuffer.frag - writes position + camera distance and normal + coverage for the scatter pass.
+#version 450
+layout(push_constant) uniform Push { mat4 clip_from_world; vec4 eye; } push;
+layout(location = 0) in vec3 v_position;
+layout(location = 1) in vec3 v_normal;
+layout(location = 0) out vec4 out_position_depth;
+layout(location = 1) out vec4 out_normal_coverage;
+void main()
+{
+    vec3 n = normalize(v_normal);
+    // Open meshes and flipped windings show their inside: shade the side that faces the camera.
+    if (!gl_FrontFacing)
+        n = -n;
+    out_position_depth = vec4(v_position, length(v_position - push.eye.xyz));
+    out_normal_coverage = vec4(n, 1.0);
+}

@@ -1,0 +1,13 @@
+// gbuffer.vert - the camera's view of the mesh: where each pixel's surface point is and which way it faces.
+#version 450
+layout(push_constant) uniform Push { mat4 clip_from_world; vec4 eye; } push;
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
+layout(location = 0) out vec3 v_position;
+layout(location = 1) out vec3 v_normal;
+void main()
+{
+    v_position = in_position;
+    v_normal = in_normal;
+    gl_Position = push.clip_from_world * vec4(in_position, 1.0);
+}

@@ -1,0 +1,138 @@
+// scatter.comp - the final pass: per covered pixel, pick the projection image that sees the point best,
+// importance-sample the dipole profile around it per channel and apply the exit Fresnel term.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "frame.glsl"
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(set = 0, binding = 1) uniform sampler2DArray projection_images;
+layout(set = 0, binding = 2) uniform sampler2D gbuffer_position;
+layout(set = 0, binding = 3) uniform sampler2D gbuffer_normal;
+layout(std430, set = 0, binding = 4) writeonly buffer OutColor { vec4 out_color[]; };
+layout(std430, set = 0, binding = 5) writeonly buffer OutNormalView { vec4 out_normal_view[]; };
+layout(std430, set = 0, binding = 6) writeonly buffer OutDepth { float out_depth[]; };
+layout(push_constant) uniform Push { ivec2 size; } push;
+
+vec2 texel_coord(int k, vec3 p)
+{
+    vec3 rel = p - frame.view_origin[k].xyz;
+    vec3 du = frame.view_du[k].xyz, dv = frame.view_dv[k].xyz;
+    return vec2(dot(rel, du) / dot(du, du), dot(rel, dv) / dot(dv, dv));
+}
+
+bool inside(ivec2 t)
+{
+    int side = int(frame.proj.y);
+    return t.x >= 0 && t.y >= 0 && t.x < side && t.y < side;
+}
+
+// The point is visible in view k when the depth stored at its texel is its own depth; the tolerance
+// grows with the slope of the surface in that view.
+bool visible_in(int k, vec3 p, vec3 n)
+{
+    ivec2 t = ivec2(floor(texel_coord(k, p)));
+    if (!inside(t))
+        return false;
+    float stored = texelFetch(projection_images, ivec3(t, k), 0).a;
+    if (stored < 0.0)
+        return false;
+    float depth = dot(p - frame.view_origin[k].xyz, frame.view_dir[k].xyz);
+    float facing = max(dot(n, -frame.view_dir[k].xyz), 0.1);
+    float tolerance = frame.proj.x * (1.5 + 1.0 / facing) + frame.proj.w;
+    return abs(stored - depth) <= tolerance;
+}
+
+// Best-facing view in which the point is visible; views facing away are never used.
+// Falls back to the front view (0), as the paper does, when no facing view sees the point.
+int choose_view(vec3 p, vec3 n)
+{
+    int count = int(frame.params.w);
+    uint tried = 0u;
+    for (int attempt = 0; attempt < count; attempt++) {
+        int best = -1;
+        float best_score = 0.0;
+        for (int k = 0; k < count; k++) {
+            float score = dot(n, -frame.view_dir[k].xyz);
+            if ((tried & (1u << k)) == 0u && score > best_score) {
+                best = k;
+                best_score = score;
+            }
+        }
+        if (best < 0)
+            break;
+        if (visible_in(best, p, n))
+            return best;
+        tried |= 1u << best;
+    }
+    return 0;
+}
+
+float dipole_rd(int c, float r)
+{
+    float zr = frame.z_r[c], zv = frame.z_v[c], s = frame.sigma_tr[c];
+    float dr = sqrt(r * r + zr * zr), dv = sqrt(r * r + zv * zv);
+    float real = zr * (s * dr + 1.0) * exp(-s * dr) / (dr * dr * dr);
+    float virt = zv * (s * dv + 1.0) * exp(-s * dv) / (dv * dv * dv);
+    return frame.alpha_prime[c] / (4.0 * PI) * (real + virt);
+}
+
+// Per-pixel rotation of the sample pattern turns structured aliasing into fine noise; a hash
+// keeps it deterministic.
+float pixel_rotation(ivec2 px)
+{
+    uint h = uint(px.x) * 1973u + uint(px.y) * 9277u + 26699u;
+    h = (h ^ (h >> 13)) * 1274126177u;
+    return float(h & 0xffffu) / 65536.0 * 2.0 * PI;
+}
+
+vec3 scattered_light(int k, vec3 p, ivec2 px)
+{
+    vec2 center = texel_coord(k, p);
+    int n = int(frame.params.z);
+    float mm_per_texel = frame.proj.z * frame.proj.x;
+    float rotation = pixel_rotation(px);
+    mat2 rotate = mat2(cos(rotation), sin(rotation), -sin(rotation), cos(rotation));
+    float depth = dot(p - frame.view_origin[k].xyz, frame.view_dir[k].xyz);
+    vec3 sum = vec3(0.0);
+    for (int c = 0; c < 3; c++) {
+        for (int j = 0; j < n; j++) {
+            vec4 s = frame.samples[c * MAX_SAMPLES + j];
+            vec2 offset = (rotate * s.zw) * (s.x / mm_per_texel);
+            ivec2 t = ivec2(floor(center + offset));
+            if (!inside(t))
+                continue;
+            vec4 texel = texelFetch(projection_images, ivec3(t, k), 0);
+            if (texel.a < 0.0)
+                continue;
+            // Lateral distance is the exact sample offset (not the texel centre's), so kernels
+            // narrower than a texel still integrate to the right energy on flat regions.
+            float dz = (texel.a - depth) * frame.proj.z;
+            float r = sqrt(s.x * s.x + dz * dz);
+            sum[c] += texel[c] * dipole_rd(c, r) * s.y;
+        }
+    }
+    return sum / float(n);
+}
+
+void main()
+{
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    if (px.x >= push.size.x || px.y >= push.size.y)
+        return;
+    uint idx = uint(px.y * push.size.x + px.x);
+    vec4 normal_coverage = texelFetch(gbuffer_normal, px, 0);
+    if (normal_coverage.w == 0.0) {
+        out_color[idx] = vec4(0.0);
+        out_normal_view[idx] = vec4(0.0, 0.0, 0.0, -1.0);
+        out_depth[idx] = 0.0;
+        return;
+    }
+    vec4 position_depth = texelFetch(gbuffer_position, px, 0);
+    vec3 p = position_depth.xyz;
+    vec3 n = normalize(normal_coverage.xyz);
+    int k = choose_view(p, n);
+    vec3 to_eye = normalize(frame.camera_eye.xyz - p);
+    float ft_out = fresnel_transmittance(frame.params.x, dot(n, to_eye));
+    out_color[idx] = vec4(scattered_light(k, p, px) * (ft_out / PI), 1.0);
+    out_normal_view[idx] = vec4(n, float(k));
+    out_depth[idx] = position_depth.w;
+}

@@ -1,0 +1,136 @@
+/* bench_table2.c - the paper's Table 2 on this machine: the six triangle counts at 512x512 with
+ * "single" and "five", warm, median of N frames, beside the paper's FPS-1 / FPS-2. Not a test. */
+#include "lucent.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct paper_row {
+    const char *model;
+    uint32_t triangles;
+    double fps1, fps2;
+};
+
+static const struct paper_row paper[] = {
+    {"Decimated Stanford bunny", 17082, 50.41, 15.81}, {"Walker head", 20720, 57.77, 17.12},
+    {"Stanford bunny", 68328, 34.15, 10.91},           {"Gargoyle", 100000, 27.52, 8.83},
+    {"Gist-MP3", 460612, 14.55, 5.45},                 {"Gist-Monkey", 969920, 14.17, 4.04}};
+
+enum { T_TOTAL, T_SHADOW, T_PROJECTION, T_GBUFFER, T_SCATTER, T_READBACK, T_COUNT };
+
+struct measure {
+    double median[T_COUNT];
+    uint32_t triangles, proxy_triangles;
+};
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+static int measure(lucent_renderer *r, uint32_t triangles, lucent_method method, int frames, int size,
+                   struct measure *m)
+{
+    lucent_scene s;
+    lucent_scene_defaults(&s);
+    snprintf(s.mesh.builtin, sizeof s.mesh.builtin, "protrusion");
+    s.mesh.triangles = triangles;
+    s.width = s.height = size;
+    s.projection_size = size;
+    s.method = method;
+    s.lights[0].direction[0] = -1.0, s.lights[0].direction[1] = 0.0, s.lights[0].direction[2] = 0.0;
+    double *t[T_COUNT];
+    for (int k = 0; k < T_COUNT; k++)
+        t[k] = calloc((size_t)frames, sizeof(double));
+    lucent_error err = {0};
+    int warmup = 3, rc = 0;
+    for (int f = -warmup; f < frames && rc == 0; f++) {
+        lucent_image img;
+        lucent_stats st;
+        if (lucent_render(r, &s, &img, &st, &err) != LUCENT_OK) {
+            fprintf(stderr, "bench: %s: %s\n", err.field, err.message);
+            rc = -1;
+            break;
+        }
+        lucent_image_free(&img);
+        m->triangles = st.triangles;
+        m->proxy_triangles = st.proxy_triangles;
+        if (f < 0)
+            continue;
+        double v[T_COUNT] = {st.ms_total - st.ms_mesh_load, st.ms_shadow, st.ms_projection, st.ms_gbuffer,
+                             st.ms_scatter, st.ms_readback};
+        for (int k = 0; k < T_COUNT; k++)
+            t[k][f] = v[k];
+    }
+    for (int k = 0; k < T_COUNT; k++) {
+        if (rc == 0)
+            m->median[k] = median(t[k], frames);
+        free(t[k]);
+    }
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    const char *out_path = argc > 1 ? argv[1] : "bench_table2.md";
+    int frames = argc > 2 ? atoi(argv[2]) : 20;
+    int size = argc > 3 ? atoi(argv[3]) : 512;
+    if (frames < 1 || size < 16) {
+        fprintf(stderr, "usage: bench_table2 [OUT.md] [FRAMES>=1] [SIZE>=16]\n");
+        return 2;
+    }
+    lucent_error err = {0};
+    lucent_renderer_desc desc = {.verbose = 1};
+    lucent_renderer *r = lucent_renderer_create(&desc, &err);
+    if (!r) {
+        fprintf(stderr, "bench: %s\n", err.message);
+        return 1;
+    }
+    FILE *out = fopen(out_path, "w");
+    if (!out) {
+        perror(out_path);
+        lucent_renderer_destroy(r);
+        return 1;
+    }
+    char head[512];
+    snprintf(head, sizeof head,
+             "Table 2 at %dx%d (projection images %d^2), median of %d warm frames; mesh = builtin protrusion "
+             "at the paper's triangle count.\n\n"
+             "| paper model | triangles | proxy | paper FPS-1 | paper FPS-2 | single FPS | five FPS | five/single "
+             "| five >= FPS-2 | five ms: shadow / projection / gbuffer / scatter / readback |\n"
+             "|---|---|---|---|---|---|---|---|---|---|\n",
+             size, size, size, frames);
+    fputs(head, stdout);
+    fputs(head, out);
+    int rc = 0;
+    for (size_t i = 0; i < sizeof paper / sizeof paper[0] && rc == 0; i++) {
+        struct measure one = {0}, five = {0};
+        if (measure(r, paper[i].triangles, LUCENT_METHOD_SINGLE, frames, size, &one) ||
+            measure(r, paper[i].triangles, LUCENT_METHOD_FIVE, frames, size, &five)) {
+            rc = 1;
+            break;
+        }
+        double fps1 = 1000.0 / one.median[T_TOTAL], fps5 = 1000.0 / five.median[T_TOTAL];
+        char row[512];
+        snprintf(row, sizeof row,
+                 "| %s | %u | %u | %.2f | %.2f | %.2f | %.2f | %.2fx | %s | %.1f / %.1f / %.1f / %.1f / %.1f |\n",
+                 paper[i].model, five.triangles, five.proxy_triangles, paper[i].fps1, paper[i].fps2, fps1, fps5,
+                 five.median[T_TOTAL] / one.median[T_TOTAL], fps5 >= paper[i].fps2 ? "yes" : "no",
+                 five.median[T_SHADOW], five.median[T_PROJECTION], five.median[T_GBUFFER], five.median[T_SCATTER],
+                 five.median[T_READBACK]);
+        fputs(row, stdout);
+        fputs(row, out);
+        fflush(stdout);
+    }
+    fclose(out);
+    lucent_renderer_destroy(r);
+    return rc;
+}

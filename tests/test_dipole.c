@@ -1,0 +1,149 @@
+/* test_dipole.c - checks the dipole profile, Fresnel terms and sampling tables against the values
+ * in shared/research/translucency.md and against their own closed forms. */
+#include "dipole.h"
+#include "lucent.h"
+
+#include <math.h>
+#include <stdio.h>
+
+static int passed, failed;
+
+static void check_close(const char *what, double got, double want, double rel_tol)
+{
+    double rel = fabs(got - want) / fmax(fabs(want), 1e-300);
+    int ok = isfinite(got) && rel <= rel_tol;
+    printf("%-4s %-44s got %.6g want %.6g rel.err %.2e (tol %.0e)\n", ok ? "ok" : "FAIL", what, got, want,
+           rel, rel_tol);
+    ok ? passed++ : failed++;
+}
+
+static void check(const char *what, int ok)
+{
+    printf("%-4s %s\n", ok ? "ok" : "FAIL", what);
+    ok ? passed++ : failed++;
+}
+
+static void boundary_terms(void)
+{
+    check_close("F_dr(1.3)", dipole_fdr(1.3), 0.44476, 1e-4);
+    check_close("A(1.3)", dipole_boundary_a(1.3), 2.60206, 1e-4);
+    check_close("F_dr(1.0) is not zero", dipole_fdr(1.0), 0.00160, 1e-2);
+    check_close("A(1.5)", dipole_boundary_a(1.5), 3.95950, 1e-4);
+    check_close("Ft(eta 1, 30 deg) = 1", fresnel_transmittance(1.0, cos(0.5236)), 1.0, 1e-12);
+    check_close("Ft(1.5, normal) = 0.96", fresnel_transmittance(1.5, 1.0), 0.96, 1e-9);
+    check("Ft(1.3, grazing) = 0", fresnel_transmittance(1.3, 0.0) == 0.0);
+}
+
+static void skin1_profile(void)
+{
+    struct dipole d;
+    dipole_init(&d, 0.032, 0.74, 1.3);
+    const double r[] = {0.0, 0.5, 1.0, 2.0, 5.0};
+    const double want[] = {0.044431, 0.036048, 0.022019, 0.0072614, 0.00080183};
+    char what[64];
+    for (int i = 0; i < 5; i++) {
+        snprintf(what, sizeof what, "Skin1 red R_d(%.1f mm)", r[i]);
+        check_close(what, dipole_rd(&d, r[i]), want[i], 1e-3);
+    }
+    check_close("Skin1 red R_d total (closed form)", dipole_rd_total(&d), 0.43596, 1e-4);
+    dipole_init(&d, 0.0071, 3.00, 1.3);
+    check_close("Marble blue R_d(0), eta 1.3", dipole_rd(&d, 0.0), 0.74944, 1e-3);
+    dipole_init(&d, 0.97, 0.07, 1.3);
+    check_close("Ketchup green R_d(5 mm)", dipole_rd(&d, 5.0), 6.5e-8, 2e-2);
+}
+
+/* The paper's Rd column; Chicken1 blue is 0.126 by the formula against 0.10 printed (unexplained in
+ * the research notes), so that one entry gets a wider tolerance. */
+static void preset_reflectance(void)
+{
+    static const struct { const char *name; double rd[3]; } paper[] = {
+        {"apple", {0.85, 0.84, 0.53}},    {"chicken1", {0.31, 0.15, 0.10}}, {"chicken2", {0.32, 0.16, 0.10}},
+        {"cream", {0.98, 0.90, 0.73}},    {"ketchup", {0.16, 0.01, 0.00}},  {"marble", {0.83, 0.79, 0.75}},
+        {"potato", {0.77, 0.62, 0.21}},   {"skimmilk", {0.81, 0.81, 0.69}}, {"skin1", {0.44, 0.22, 0.13}},
+        {"skin2", {0.63, 0.44, 0.34}},    {"spectralon", {1.0, 1.0, 1.0}},  {"wholemilk", {0.91, 0.88, 0.76}}};
+    int count = 0;
+    for (size_t i = 0; i < sizeof paper / sizeof paper[0]; i++) {
+        lucent_material m;
+        if (lucent_material_preset(paper[i].name, &m) != LUCENT_OK) {
+            check(paper[i].name, 0);
+            continue;
+        }
+        for (int c = 0; c < 3; c++) {
+            struct dipole d;
+            dipole_init(&d, m.sigma_a[c], m.sigma_s_prime[c], m.eta);
+            double got = dipole_rd_total(&d);
+            double tol = (i == 1 && c == 2) ? 0.03 : 0.0101;
+            int ok = fabs(got - paper[i].rd[c]) <= tol;
+            printf("%-4s Rd total %-10s ch%d got %.3f paper %.2f |diff| %.3f (tol %.3f)\n", ok ? "ok" : "FAIL",
+                   paper[i].name, c, got, paper[i].rd[c], fabs(got - paper[i].rd[c]), tol);
+            ok ? passed++ : failed++;
+        }
+        count++;
+    }
+    check("all 12 presets known", count == 12 && lucent_material_preset_name(12) == NULL);
+}
+
+/* Plane integral from the sampling table's numerical CDF against the closed form, every preset. */
+static void energy_conservation(void)
+{
+    double radii[64], weights[64];
+    for (int i = 0; lucent_material_preset_name(i); i++) {
+        lucent_material m;
+        lucent_material_preset(lucent_material_preset_name(i), &m);
+        for (int c = 0; c < 3; c++) {
+            if (m.sigma_a[c] == 0.0)
+                continue;   /* 1/r^3 tail: the closed form is the limit at infinite radius */
+            struct dipole d;
+            dipole_init(&d, m.sigma_a[c], m.sigma_s_prime[c], m.eta);
+            double r_max = 200.0 / d.sigma_tr;
+            char what[80];
+            snprintf(what, sizeof what, "plane integral = closed form, %s ch%d", lucent_material_preset_name(i), c);
+            check_close(what, dipole_sample_radii(&d, r_max, 16, radii, weights), dipole_rd_total(&d), 1e-3);
+        }
+    }
+}
+
+static void extremes(void)
+{
+    struct dipole d;
+    double radii[64], weights[64];
+    dipole_init(&d, 0.0, 11.6, 1.3);
+    check_close("Spectralon R_d total = 1 (sigma_tr = 0)", dipole_rd_total(&d), 1.0, 1e-12);
+    check("Spectralon R_d(0), R_d(1e4 mm) finite and > 0",
+          isfinite(dipole_rd(&d, 0.0)) && dipole_rd(&d, 1e4) > 0.0 && isfinite(dipole_rd(&d, 1e4)));
+    double total = dipole_sample_radii(&d, 50.0, 64, radii, weights);
+    int ok = isfinite(total) && total > 0.9 && total < 1.0;
+    for (int j = 0; j < 64; j++)
+        ok &= isfinite(radii[j]) && isfinite(weights[j]) && radii[j] <= 50.0 && (j == 0 || radii[j] > radii[j - 1]);
+    printf("     Spectralon truncated at 50 mm: integral %.6f\n", total);
+    check("Spectralon sampling table finite, increasing, within r_max", ok);
+
+    const double sigmas[] = {1e-4, 1e-2, 1.0, 1e2, 1e4};
+    for (int i = 0; i < 5; i++) {
+        dipole_init(&d, 0.01, sigmas[i], 1.0);
+        double t = dipole_sample_radii(&d, 1e3, 16, radii, weights);
+        int fine = isfinite(t) && t >= 0.0;
+        for (int j = 0; j < 16; j++)
+            fine &= isfinite(radii[j]) && isfinite(weights[j]) && weights[j] > 0.0;
+        char what[80];
+        snprintf(what, sizeof what, "sigma_s' = %g, eta = 1: table finite (integral %.4g)", sigmas[i], t);
+        check(what, fine);
+    }
+    dipole_init(&d, 0.5, 0.74, 1.3);
+    double t = dipole_sample_radii(&d, 1e3, 16, radii, weights);
+    double spread = 0.0;
+    for (int j = 0; j < 16; j++)
+        spread = fmax(spread, fabs(weights[j] * dipole_rd(&d, radii[j]) / t - 1.0));
+    check_close("weight x R_d(r_j) = integral for every sample", 1.0 + spread, 1.0, 1e-9);
+}
+
+int main(void)
+{
+    boundary_terms();
+    skin1_profile();
+    preset_reflectance();
+    energy_conservation();
+    extremes();
+    printf("%d passed, %d failed\n", passed, failed);
+    return failed != 0;
+}

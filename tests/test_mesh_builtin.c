@@ -1,0 +1,387 @@
+/* test_mesh_builtin.c - checks the procedural meshes (sphere, torus, protrusion) and the proxies
+ * made from them: triangle counts, closed topology, outward unit normals, centring, limits, errors. */
+#include "lucent.h"
+#include "mesh.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+static int passed, failed;
+
+static int check(int ok, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    printf("%s ", ok ? "ok  " : "FAIL");
+    vprintf(fmt, ap);
+    printf("\n");
+    va_end(ap);
+    ok ? passed++ : failed++;
+    return ok;
+}
+
+static double length3(const double v[3])
+{
+    return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
+static void to_double(const float *f, double d[3])
+{
+    d[0] = f[0], d[1] = f[1], d[2] = f[2];
+}
+
+static double angle_between(const double a[3], const double b[3])
+{
+    double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    return atan2(length3(c), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+}
+
+/* What every mesh must satisfy, whatever its shape. A proxy keeps its source's frame, so its own
+ * box need not be centred and its farthest vertex may fall inside the radius; being simplified, it
+ * may also hold slivers whose face normal is rounding noise, so winding is judged by area. */
+static void check_common(const char *what, const struct lucent_mesh *m, int is_proxy)
+{
+    uint32_t bad_index = 0, bad_normal = 0, inward = 0;
+    double area = 0, inward_area = 0;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double max_dist = 0, max_unit_error = 0;
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        double p[3], n[3];
+        to_double(m->positions + 3 * (size_t)v, p);
+        to_double(m->normals + 3 * (size_t)v, n);
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fmin(lo[k], p[k]);
+            hi[k] = fmax(hi[k], p[k]);
+        }
+        max_dist = fmax(max_dist, length3(p));
+        double unit_error = fabs(length3(n) - 1);
+        if (!isfinite(unit_error) || unit_error > 1e-5)
+            bad_normal++;
+        else
+            max_unit_error = fmax(max_unit_error, unit_error);
+    }
+    for (uint32_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t *tri = m->indices + 3 * (size_t)t;
+        if (tri[0] >= m->vertex_count || tri[1] >= m->vertex_count || tri[2] >= m->vertex_count) {
+            bad_index++;
+            continue;
+        }
+        /* counter-clockwise from outside: the face normal agrees with the vertex normals */
+        double a[3], b[3], c[3], mean[3] = {0, 0, 0};
+        to_double(m->positions + 3 * (size_t)tri[0], a);
+        to_double(m->positions + 3 * (size_t)tri[1], b);
+        to_double(m->positions + 3 * (size_t)tri[2], c);
+        for (int corner = 0; corner < 3; corner++)
+            for (int k = 0; k < 3; k++)
+                mean[k] += m->normals[3 * (size_t)tri[corner] + k];
+        double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        double face[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                          e1[0] * e2[1] - e1[1] * e2[0]};
+        double face_area = 0.5 * length3(face);
+        area += face_area;
+        if (face[0] * mean[0] + face[1] * mean[1] + face[2] * mean[2] <= 0) {
+            inward++;
+            inward_area += face_area;
+        }
+    }
+    double centre_offset = 0;
+    for (int k = 0; k < 3; k++)
+        centre_offset = fmax(centre_offset, fabs(0.5 * (lo[k] + hi[k])));
+
+    check(bad_index == 0, "%s: all indices in range (%u bad)", what, bad_index);
+    check(bad_normal == 0, "%s: all normals finite and unit (%u bad, max |len-1| %.2e)", what,
+          bad_normal, max_unit_error);
+    check(m->radius > 0 && isfinite(m->radius), "%s: radius %.6f > 0", what, m->radius);
+    if (is_proxy) {
+        check(inward_area <= 1e-3 * area,
+              "%s: triangles wind counter-clockwise from outside (%u slivers do not, %.1e of the area)",
+              what, inward, inward_area / area);
+        check(max_dist <= m->radius, "%s: farthest vertex %.7f within the source radius %.7f", what,
+              max_dist, m->radius);
+        return;
+    }
+    check(inward == 0, "%s: every triangle winds counter-clockwise from outside (%u do not)", what,
+          inward);
+    check(centre_offset <= 1e-6 * m->radius, "%s: positions centred (box centre off by %.2e)", what,
+          centre_offset);
+    check(fabs(max_dist - m->radius) <= 1e-6 * m->radius,
+          "%s: farthest vertex %.7f matches radius %.7f", what, max_dist, m->radius);
+}
+
+static double max_radial_normal_error(const struct lucent_mesh *m)
+{
+    double worst = 0;
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        double p[3], n[3];
+        to_double(m->positions + 3 * (size_t)v, p);
+        to_double(m->normals + 3 * (size_t)v, n);
+        worst = fmax(worst, angle_between(p, n));
+    }
+    return worst;
+}
+
+static void check_sphere(const char *what, const struct lucent_mesh *m)
+{
+    double err = max_radial_normal_error(m);
+    check(err < 1e-4, "%s: normals radial, max angle error %.2e rad", what, err);
+    check(fabs(m->radius - 1) < 1e-6, "%s: radius %.8f is 1", what, m->radius);
+    check(m->vertex_count == 2 + m->triangle_count / 2,
+          "%s: closed, one shared vertex per lattice point (V %u = 2 + T/2)", what, m->vertex_count);
+    check(m->convex == 1, "%s: marked convex", what);
+}
+
+static void check_torus(const char *what, const struct lucent_mesh *m)
+{
+    /* the analytic normal points from the nearest point of the unit core circle */
+    double worst = 0;
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        double p[3], n[3];
+        to_double(m->positions + 3 * (size_t)v, p);
+        to_double(m->normals + 3 * (size_t)v, n);
+        for (int k = 0; k < 3; k++)
+            p[k] += m->center[k];
+        double ring = sqrt(p[0] * p[0] + p[1] * p[1]);
+        double from_core[3] = {p[0] - p[0] / ring, p[1] - p[1] / ring, p[2]};
+        worst = fmax(worst, angle_between(from_core, n));
+    }
+    check(worst < 1e-4, "%s: normals match the analytic torus, max angle error %.2e rad", what, worst);
+    check(fabs(m->radius - 1.4) < 1e-5, "%s: radius %.6f is major + minor = 1.4", what, m->radius);
+    check(m->vertex_count == m->triangle_count / 2, "%s: closed genus-1 (V %u = T/2)", what,
+          m->vertex_count);
+    check(m->convex == 0, "%s: not marked convex", what);
+}
+
+static void check_protrusion(const char *what, const struct lucent_mesh *m)
+{
+    uint32_t tip = 0;
+    for (uint32_t v = 1; v < m->vertex_count; v++)
+        if (m->positions[3 * (size_t)v + 2] > m->positions[3 * (size_t)tip + 2])
+            tip = v;
+    double p[3], n[3], z_axis[3] = {0, 0, 1};
+    to_double(m->positions + 3 * (size_t)tip, p);
+    to_double(m->normals + 3 * (size_t)tip, n);
+    for (int k = 0; k < 3; k++)
+        p[k] += m->center[k];
+    check(fabs(p[0]) < 1e-6 && fabs(p[1]) < 1e-6 && fabs(p[2] - 1.55) < 1e-5,
+          "%s: +Z extreme is the nose tip on the axis at (%.2e, %.2e, %.6f)", what, p[0], p[1], p[2]);
+    check(angle_between(n, z_axis) < 1e-4, "%s: tip normal faces +Z (off by %.2e rad)", what,
+          angle_between(n, z_axis));
+
+    /* the failure case needs nose flanks that turn well away from the camera (+Z) */
+    double steepest = 0;
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        double q[3], qn[3];
+        to_double(m->positions + 3 * (size_t)v, q);
+        to_double(m->normals + 3 * (size_t)v, qn);
+        q[2] += m->center[2];
+        if (angle_between(q, z_axis) < 0.5)
+            steepest = fmax(steepest, angle_between(qn, z_axis));
+    }
+    check(steepest > 0.9, "%s: nose flanks turn %.1f degrees away from +Z", what,
+          steepest * 180 / 3.14159265358979);
+    double err = max_radial_normal_error(m);
+    check(m->convex == 0, "%s: not marked convex (normals deviate from radial by up to %.1f deg)",
+          what, err * 180 / 3.14159265358979);
+}
+
+static void check_builtin(const char *name, uint32_t request)
+{
+    char what[64];
+    uint32_t expected = request ? request : 20000;
+    snprintf(what, sizeof what, "%s@%u", name, request);
+    lucent_mesh *mesh = NULL;
+    lucent_error err = {0};
+    lucent_status st = lucent_mesh_builtin(name, request, &mesh, &err);
+    if (!check(st == LUCENT_OK, "%s: builds (%s %s)", what, lucent_status_name(st), err.message))
+        return;
+    double off = fabs((double)mesh->triangle_count - expected) / expected;
+    check(off <= 0.02, "%s: %u triangles, %u vertices, %.3f%% from %u", what, mesh->triangle_count,
+          mesh->vertex_count, 100 * off, expected);
+    check_common(what, mesh, 0);
+    if (strcmp(name, "sphere") == 0)
+        check_sphere(what, mesh);
+    else if (strcmp(name, "torus") == 0)
+        check_torus(what, mesh);
+    else
+        check_protrusion(what, mesh);
+    lucent_mesh_free(mesh);
+}
+
+/* Off-by fraction of one request, or INFINITY when it fails to build. */
+static double count_error(const char *name, uint32_t target)
+{
+    lucent_mesh *mesh = NULL;
+    lucent_error err = {0};
+    if (lucent_mesh_builtin(name, target, &mesh, &err) != LUCENT_OK)
+        return INFINITY;
+    double off = fabs((double)mesh->triangle_count - target) / target;
+    lucent_mesh_free(mesh);
+    return off;
+}
+
+/* Every request in the supported range lands within 2%, checked on a sweep and on the paper's counts. */
+static void check_count_sweep(void)
+{
+    static const char *names[] = {"sphere", "torus", "protrusion"};
+    static const uint32_t paper[] = {17082, 20720, 68328, 100000, 460612, 969920};
+    for (int s = 0; s < 3; s++) {
+        uint32_t misses = 0, tried = 0;
+        double worst = 0;
+        for (uint32_t t = 1000; t <= 60000; t += 97, tried++) {
+            double off = count_error(names[s], t);
+            worst = fmax(worst, off);
+            misses += !(off <= 0.02);
+        }
+        for (int i = 0; i < 6; i++, tried++) {
+            double off = count_error(names[s], paper[i]);
+            worst = fmax(worst, off);
+            misses += !(off <= 0.02);
+        }
+        check(misses == 0, "%s: %u requests from 1000 to 60000 and the paper's counts, worst %.3f%% off",
+              names[s], tried, 100 * worst);
+    }
+}
+
+static void check_errors(void)
+{
+    lucent_mesh *mesh = NULL;
+    lucent_error err = {0};
+    lucent_status st = lucent_mesh_builtin("cube", 0, &mesh, &err);
+    check(st == LUCENT_E_INVALID && strcmp(err.field, "mesh.builtin") == 0 && !mesh &&
+              strstr(err.message, "sphere") && strstr(err.message, "protrusion"),
+          "unknown name: %s, field \"%s\", \"%s\"", lucent_status_name(st), err.field, err.message);
+
+    memset(&err, 0, sizeof err);
+    st = lucent_mesh_builtin(NULL, 0, &mesh, &err);
+    check(st == LUCENT_E_INVALID && strcmp(err.field, "mesh.builtin") == 0 && !mesh,
+          "NULL name: %s, field \"%s\"", lucent_status_name(st), err.field);
+
+    memset(&err, 0, sizeof err);
+    st = lucent_mesh_builtin("sphere", LUCENT_MAX_BUILTIN_TRIANGLES + 1, &mesh, &err);
+    check(st == LUCENT_E_LIMIT && strcmp(err.field, "mesh.triangles") == 0 && !mesh,
+          "%u triangles: %s, field \"%s\", \"%s\"", LUCENT_MAX_BUILTIN_TRIANGLES + 1,
+          lucent_status_name(st), err.field, err.message);
+
+    memset(&err, 0, sizeof err);
+    st = lucent_mesh_builtin("torus", 999, &mesh, &err);
+    check(st == LUCENT_E_LIMIT && strcmp(err.field, "mesh.triangles") == 0 && !mesh,
+          "999 triangles (below the 2%% guarantee): %s, \"%s\"", lucent_status_name(st), err.message);
+
+    st = lucent_mesh_builtin("sphere", LUCENT_MAX_BUILTIN_TRIANGLES, &mesh, &err);
+    check(st == LUCENT_OK && mesh->triangle_count <= LUCENT_MAX_BUILTIN_TRIANGLES &&
+              mesh->triangle_count >= 0.98 * LUCENT_MAX_BUILTIN_TRIANGLES,
+          "the maximum request builds %u triangles, not above the limit",
+          lucent_mesh_triangle_count(mesh));
+    lucent_mesh_free(mesh);
+}
+
+/* Proxies keep the source's frame exactly and only use source vertices. */
+static void check_proxy(const char *name, uint32_t request, uint32_t target)
+{
+    char what[64];
+    snprintf(what, sizeof what, "proxy %s@%u -> %u", name, request, target);
+    lucent_mesh *src = NULL;
+    lucent_error err = {0};
+    if (!check(lucent_mesh_builtin(name, request, &src, &err) == LUCENT_OK, "%s: source builds",
+               what))
+        return;
+    struct lucent_mesh *proxy = mesh_simplify(src, target);
+    if (!check(proxy != NULL, "%s: simplifies", what)) {
+        lucent_mesh_free(src);
+        return;
+    }
+    check(proxy->triangle_count <= 1.05 * target && proxy->triangle_count >= 0.5 * target,
+          "%s: %u triangles, %u vertices", what, proxy->triangle_count, proxy->vertex_count);
+    check(memcmp(proxy->center, src->center, sizeof src->center) == 0 && proxy->radius == src->radius,
+          "%s: same centre and radius as the source", what);
+    check(proxy->convex == src->convex, "%s: convexity copied", what);
+
+    /* every proxy vertex is one of the source's, found by exact position */
+    uint32_t foreign = 0;
+    for (uint32_t v = 0; v < proxy->vertex_count; v++) {
+        const float *p = proxy->positions + 3 * (size_t)v;
+        int found = 0;
+        for (uint32_t s = 0; s < src->vertex_count && !found; s++)
+            found = memcmp(p, src->positions + 3 * (size_t)s, 3 * sizeof(float)) == 0;
+        foreign += !found;
+    }
+    check(foreign == 0, "%s: all vertices are source vertices (%u are not)", what, foreign);
+    check_common(what, proxy, 1);
+    lucent_mesh_free(proxy);
+    lucent_mesh_free(src);
+}
+
+/* 3000 tufts of 4 fins sharing one spine edge, scattered over the unit sphere: non-manifold edges
+ * stall topology-preserving simplification, so only the sloppy fallback can reach the target. */
+static struct lucent_mesh *make_tufts(void)
+{
+    const uint32_t tufts = 3000, fins = 4, per_tuft = 2 + fins;
+    const double size = 0.003;
+    struct lucent_mesh *m = mesh_alloc(tufts * per_tuft, tufts * fins, 0);
+    if (!m)
+        return NULL;
+    for (uint32_t t = 0; t < tufts; t++) {
+        /* a deterministic spread over the sphere (golden-angle spiral) */
+        double z = 1 - (2.0 * t + 1) / tufts, ring = sqrt(1 - z * z), phi = 2.399963229728653 * t;
+        double root[3] = {ring * cos(phi), ring * sin(phi), z};
+        float *p = m->positions + 3 * (size_t)t * per_tuft;
+        for (int k = 0; k < 3; k++) {
+            p[k] = (float)root[k];
+            p[3 + k] = (float)(root[k] + (k == 2 ? size : 0));
+        }
+        for (uint32_t f = 0; f < fins; f++) {
+            double a = 2 * 3.14159265358979 * f / fins;
+            float *tip = p + 3 * (2 + f);
+            tip[0] = (float)(root[0] + size * cos(a));
+            tip[1] = (float)(root[1] + size * sin(a));
+            tip[2] = (float)(root[2] + size / 2);
+            uint32_t *tri = m->indices + 3 * ((size_t)t * fins + f);
+            tri[0] = t * per_tuft;
+            tri[1] = t * per_tuft + 1;
+            tri[2] = t * per_tuft + 2 + f;
+        }
+    }
+    lucent_error err = {0};
+    if (mesh_finish(m, &err) != LUCENT_OK) {
+        printf("tufts: %s\n", err.message);
+        lucent_mesh_free(m);
+        return NULL;
+    }
+    return m;
+}
+
+static void check_sloppy_proxy(void)
+{
+    struct lucent_mesh *tufts = make_tufts();
+    if (!check(tufts != NULL, "tufts: %u non-manifold triangles build", lucent_mesh_triangle_count(tufts)))
+        return;
+    struct lucent_mesh *proxy = mesh_simplify(tufts, 1500);
+    check(proxy && proxy->triangle_count <= 1.05 * 1500,
+          "proxy tufts@%u -> 1500: %u triangles (sloppy fallback)", tufts->triangle_count,
+          lucent_mesh_triangle_count(proxy));
+    check(proxy && memcmp(proxy->center, tufts->center, sizeof tufts->center) == 0 &&
+              proxy->radius == tufts->radius,
+          "proxy tufts: same centre and radius as the source");
+    lucent_mesh_free(proxy);
+    lucent_mesh_free(tufts);
+}
+
+int main(void)
+{
+    static const char *names[] = {"sphere", "torus", "protrusion"};
+    static const uint32_t requests[] = {0, 17000, 68000, 970000};
+    for (int s = 0; s < 3; s++)
+        for (int r = 0; r < 4; r++)
+            check_builtin(names[s], requests[r]);
+    check_count_sweep();
+    check_errors();
+    check_proxy("sphere", 68000, 4096);
+    check_proxy("protrusion", 68000, 4096);
+    check_proxy("torus", 20000, 2000);
+    check_sloppy_proxy();
+    printf("%d passed, %d failed\n", passed, failed);
+    return failed ? 1 : 0;
+}

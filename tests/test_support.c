@@ -1,0 +1,71 @@
+/* test_support.c - shared test plumbing; see test_support.h. Failures to set up (no device, bad
+ * scene) end the run at once with a message, since every later check would be meaningless. */
+#include "test_support.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+int test_passed, test_failed;
+
+int test_check(int ok, const char *fmt, ...)
+{
+    va_list ap;
+    printf("%-4s ", ok ? "ok" : "FAIL");
+    va_start(ap, fmt);
+    vprintf(fmt, ap);
+    va_end(ap);
+    putchar('\n');
+    ok ? test_passed++ : test_failed++;
+    return ok;
+}
+
+int test_finish(void)
+{
+    lucent_shutdown();
+    printf("%d passed, %d failed\n", test_passed, test_failed);
+    return test_failed != 0;
+}
+
+static void die(const char *what, const lucent_error *err)
+{
+    fprintf(stderr, "FAIL %s: [%s] %s: %s\n", what, lucent_status_name(err->status), err->field, err->message);
+    printf("%d passed, %d failed\n", test_passed, test_failed + 1);
+    exit(1);
+}
+
+lucent_renderer *test_renderer(void)
+{
+    lucent_error err = {0};
+    lucent_renderer_desc desc = {.verbose = 1};
+    lucent_renderer *r = lucent_renderer_create(&desc, &err);
+    if (!r)
+        die("renderer", &err);
+    return r;
+}
+
+void test_render(lucent_renderer *r, const char *json, lucent_image *out, lucent_stats *stats)
+{
+    lucent_scene scene;
+    lucent_error err = {0};
+    if (lucent_scene_parse(json, strlen(json), 1, &scene, &err) != LUCENT_OK)
+        die("scene", &err);
+    if (lucent_render(r, &scene, out, stats, &err) != LUCENT_OK)
+        die("render", &err);
+}
+
+const char *test_write_square_obj(void)
+{
+    static char path[64];
+    snprintf(path, sizeof path, "/tmp/lucent-square-%d.obj", (int)getpid());
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        perror(path);
+        exit(1);
+    }
+    fputs("v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\nf 1//1 3//1 4//1\n", f);
+    fclose(f);
+    return path;
+}

@@ -1,0 +1,31 @@
+/* test_support.h - helpers the renderer tests share: render a scene given as JSON, image statistics,
+ * and the "N passed, N failed" bookkeeping every test prints. */
+#ifndef LUCENT_TEST_SUPPORT_H
+#define LUCENT_TEST_SUPPORT_H
+
+#include "lucent.h"
+
+extern int test_passed, test_failed;
+
+/* Prints "ok"/"FAIL" with the description and counts it. Returns ok. */
+int test_check(int ok, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+/* Releases the shared device, prints the closing line and returns the process exit code. */
+int test_finish(void);
+
+/* Parses json (files allowed) and renders it; aborts the test run on any error. */
+void test_render(lucent_renderer *r, const char *json, lucent_image *out, lucent_stats *stats);
+lucent_renderer *test_renderer(void);
+
+/* Writes a flat square [-1,1]^2 at z = 0 facing +z as an OBJ file; returns its path (static buffer). */
+const char *test_write_square_obj(void);
+
+static inline float test_luminance(const float *rgba)
+{
+    return 0.2126f * rgba[0] + 0.7152f * rgba[1] + 0.0722f * rgba[2];
+}
+
+#endif
