@@ -71,19 +71,37 @@ struct radial_cdf {
     double cdf[GRID + 1];   /* integral of 2 pi r R_d from 0 to r[i] */
 };
 
-static void build_cdf(const struct dipole *d, double r_max, struct radial_cdf *t)
+/* Area density of the profile to tabulate: one channel's R_d, or the mixture of three. */
+struct profile {
+    const struct dipole *d;
+    int channels;
+    double scale[3];   /* each channel's factor: 1, or 1 / (3 R_trunc,c) for the mixture */
+};
+
+static double profile_at(const struct profile *p, double r)
 {
-    double r_lo = fmin(d->z_r * 1e-3, r_max * 1e-6);
+    double sum = 0.0;
+    for (int c = 0; c < p->channels; c++)
+        sum += p->scale[c] * dipole_rd(&p->d[c], r);
+    return sum;
+}
+
+static void build_cdf(const struct profile *p, double r_max, struct radial_cdf *t)
+{
+    double z_min = p->d[0].z_r;
+    for (int c = 1; c < p->channels; c++)
+        z_min = fmin(z_min, p->d[c].z_r);
+    double r_lo = fmin(z_min * 1e-3, r_max * 1e-6);
     double ratio = log(r_max / r_lo) / (GRID - 1);
     t->r[0] = 0.0;
     /* The disc below r_lo carries R_d(0) * area; R_d is flat there. */
     t->r[1] = r_lo;
     t->cdf[0] = 0.0;
-    t->cdf[1] = PI * r_lo * r_lo * dipole_rd(d, 0.0);
-    double prev_f = 2.0 * PI * r_lo * dipole_rd(d, r_lo);
+    t->cdf[1] = PI * r_lo * r_lo * profile_at(p, 0.0);
+    double prev_f = 2.0 * PI * r_lo * profile_at(p, r_lo);
     for (int i = 2; i <= GRID; i++) {
         t->r[i] = r_lo * exp(ratio * (i - 1));
-        double f = 2.0 * PI * t->r[i] * dipole_rd(d, t->r[i]);
+        double f = 2.0 * PI * t->r[i] * profile_at(p, t->r[i]);
         t->cdf[i] = t->cdf[i - 1] + 0.5 * (f + prev_f) * (t->r[i] - t->r[i - 1]);
         prev_f = f;
     }
@@ -108,11 +126,28 @@ double dipole_sample_radii(const struct dipole *d, double r_max, int n, double *
                            double *weights)
 {
     static _Thread_local struct radial_cdf table;
-    build_cdf(d, r_max, &table);
+    struct profile p = {d, 1, {1.0}};
+    build_cdf(&p, r_max, &table);
     double total = table.cdf[GRID];
     for (int j = 0; j < n; j++) {
         radii[j] = invert_cdf(&table, total * (j + 0.5) / n);
         weights[j] = total / dipole_rd(d, radii[j]);
     }
     return total;
+}
+
+void dipole_mixture_radii(const struct dipole d[3], double r_max, int n, double *radii, double *weights)
+{
+    static _Thread_local struct radial_cdf table;
+    struct profile p = {d, 3, {0}};
+    for (int c = 0; c < 3; c++) {
+        build_cdf(&(struct profile){&d[c], 1, {1.0}}, r_max, &table);
+        p.scale[c] = 1.0 / (3.0 * table.cdf[GRID]);
+    }
+    build_cdf(&p, r_max, &table);
+    double total = table.cdf[GRID];   /* 1 up to quadrature error; kept for exact normalization */
+    for (int j = 0; j < n; j++) {
+        radii[j] = invert_cdf(&table, total * (j + 0.5) / n);
+        weights[j] = total / (n * profile_at(&p, radii[j]));
+    }
 }

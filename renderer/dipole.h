@@ -27,4 +27,9 @@ double fresnel_transmittance(double eta, double cos_i);
 double dipole_sample_radii(const struct dipole *d, double r_max, int n, double *radii,
                            double *weights);
 
+/* The same for one set of n radii shared by three channels: stratified over the mixture
+ * p_mix(r) = (1/3) sum_c R_d,c(r) / R_trunc,c, so weight_j = 1 / (n p_mix(r_j)) makes
+ * sum_j f(r_j) weight_j an estimate of the integral of f for every channel's f = R_d,c. */
+void dipole_mixture_radii(const struct dipole d[3], double r_max, int n, double *radii, double *weights);
+
 #endif

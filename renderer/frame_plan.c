@@ -69,8 +69,13 @@ static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh
     const double *dirs[FRAME_MAX_VIEWS] = {cam.forward, left_dir, right_dir, top_dir, bottom_dir};
     const double *ups[FRAME_MAX_VIEWS] = {up_cam, up_cam, up_cam, cam.forward, cam.forward};
     struct frame_uniforms *u = &plan->uniforms;
-    double texel = 2.0 * radius / s->projection_size;
+    int side_size = s->side_projection_size ? s->side_projection_size : s->projection_size / 2;
+    if (side_size < LUCENT_MIN_PROJECTION_SIZE)
+        side_size = LUCENT_MIN_PROJECTION_SIZE;
+    plan->side_projection_size = side_size;
     for (int k = 0; k < FRAME_MAX_VIEWS; k++) {
+        int size = k == 0 ? s->projection_size : side_size;
+        double texel = 2.0 * radius / size;
         struct view_frame v = {.perspective = 0, .half_w = radius, .half_h = radius,
                                .near = radius * 0.5, .far = radius * 3.5};
         double veye[3];
@@ -85,12 +90,10 @@ static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh
         v3_scale_add(zero, v.right, texel, du);
         v3_scale_add(zero, v.down, texel, dv);
         v3_copy_f4(origin, 0.0, u->view_origin[k]);
-        v3_copy_f4(du, 0.0, u->view_du[k]);
-        v3_copy_f4(dv, 0.0, u->view_dv[k]);
+        v3_copy_f4(du, size, u->view_du[k]);
+        v3_copy_f4(dv, texel, u->view_dv[k]);
         v3_copy_f4(v.forward, 0.0, u->view_dir[k]);
     }
-    u->proj[0] = (float)texel;
-    u->proj[1] = (float)s->projection_size;
     return LUCENT_OK;
 }
 
@@ -107,8 +110,9 @@ static const char *shadow_skip_reason(const lucent_light *l, const struct lucent
     return NULL;
 }
 
-static void plan_shadow(const lucent_light *l, const double pos[3], double radius, float clip_out[16],
-                        float depth_out[4])
+/* extra_bias: how far the shadow caster (a proxy) may lie from the shaded surface. */
+static void plan_shadow(const lucent_light *l, const double pos[3], double radius, double extra_bias,
+                        float clip_out[16], float depth_out[4])
 {
     struct view_frame v = {0};
     double up[3], eye[3];
@@ -122,7 +126,7 @@ static void plan_shadow(const lucent_light *l, const double pos[3], double radiu
         v.near = fmax(dist - radius, dist * 1e-3);
         v.far = dist + radius;
         depth_out[2] = 1.0f;
-        depth_out[3] = (float)(4.0 * v.half_w * dist / SHADOW_MAP_SIZE);
+        depth_out[3] = (float)(4.0 * v.half_w * dist / SHADOW_MAP_SIZE + extra_bias);
     } else {
         view_frame_any_up(l->direction, up);
         v3_scale_add((double[3]){0, 0, 0}, l->direction, -2.0 * radius, eye);
@@ -131,7 +135,7 @@ static void plan_shadow(const lucent_light *l, const double pos[3], double radiu
         v.near = radius * 0.5;
         v.far = radius * 3.5;
         depth_out[2] = 0.0f;
-        depth_out[3] = (float)(4.0 * radius / SHADOW_MAP_SIZE);
+        depth_out[3] = (float)(4.0 * radius / SHADOW_MAP_SIZE + extra_bias);
     }
     depth_out[0] = (float)v.near;
     depth_out[1] = (float)v.far;
@@ -140,7 +144,7 @@ static void plan_shadow(const lucent_light *l, const double pos[3], double radiu
     m4_to_float(clip, clip_out);
 }
 
-static void plan_lights(const lucent_scene *s, const struct lucent_mesh *mesh,
+static void plan_lights(const lucent_scene *s, const struct lucent_mesh *mesh, double proxy_tolerance,
                         struct frame_plan *plan)
 {
     struct frame_uniforms *u = &plan->uniforms;
@@ -162,10 +166,41 @@ static void plan_lights(const lucent_scene *s, const struct lucent_mesh *mesh,
         if (skip)
             continue;
         plan->shadow_mask |= 1u << l;
-        plan_shadow(light, pos, radius, u->light_clip[l], u->light_depth[l]);
+        plan_shadow(light, pos, radius, proxy_tolerance, u->light_clip[l], u->light_depth[l]);
         memcpy(plan->shadow_clip[plan->shadow_count], u->light_clip[l], sizeof u->light_clip[l]);
         plan->shadow_count++;
     }
+}
+
+static void set_sample(float sample[4], double radius, double weight, double phi)
+{
+    sample[0] = (float)radius;
+    sample[1] = (float)weight;
+    sample[2] = (float)cos(phi);
+    sample[3] = (float)sin(phi);
+}
+
+/* Each channel samples its own profile: weight R_trunc / (n R_d(r)). The spiral is turned by a
+ * third per channel so the channels' samples do not land on the same texels. */
+static void per_channel_samples(const struct dipole d[3], double r_max, int n, struct frame_uniforms *u)
+{
+    double radii[LUCENT_MAX_SAMPLES], weights[LUCENT_MAX_SAMPLES];
+    for (int c = 0; c < 3; c++) {
+        dipole_sample_radii(&d[c], r_max, n, radii, weights);
+        for (int j = 0; j < n; j++)
+            set_sample(u->samples[c * LUCENT_MAX_SAMPLES + j], radii[j], weights[j] / n,
+                       j * GOLDEN_ANGLE + c * 2.0 * PI / 3.0);
+    }
+}
+
+/* One set of n radii, stratified over the mixture of the three channels' profiles; every texel
+ * feeds all channels, each weighted by 1 / (n p_mix(r)). */
+static void shared_samples(const struct dipole d[3], double r_max, int n, struct frame_uniforms *u)
+{
+    double radii[LUCENT_MAX_SAMPLES], weights[LUCENT_MAX_SAMPLES];
+    dipole_mixture_radii(d, r_max, n, radii, weights);
+    for (int j = 0; j < n; j++)
+        set_sample(u->samples[j], radii[j], weights[j], j * GOLDEN_ANGLE);
 }
 
 static void plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
@@ -175,28 +210,18 @@ static void plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
     /* Light cannot travel further than across the object; truncating the profile there keeps
      * sigma_a = 0 (an infinite diffusion length) finite. */
     double r_max = 2.0 * mesh->radius * plan->scale_mm;
-    double radii[LUCENT_MAX_SAMPLES], weights[LUCENT_MAX_SAMPLES];
+    struct dipole d[3];
     for (int c = 0; c < 3; c++) {
-        struct dipole d;
-        dipole_init(&d, s->material.sigma_a[c], s->material.sigma_s_prime[c], s->material.eta);
-        u->sigma_tr[c] = (float)d.sigma_tr;
-        u->z_r[c] = (float)d.z_r;
-        u->z_v[c] = (float)d.z_v;
-        u->alpha_prime[c] = (float)d.alpha_prime;
-        dipole_sample_radii(&d, r_max, s->samples, radii, weights);
-        for (int j = 0; j < s->samples; j++) {
-            /* A golden-angle spiral, turned by a third for each channel so the three channels'
-             * samples do not land on the same texels. */
-            double phi = j * GOLDEN_ANGLE + c * 2.0 * PI / 3.0;
-            float *sample = u->samples[c * LUCENT_MAX_SAMPLES + j];
-            sample[0] = (float)radii[j];
-            sample[1] = (float)weights[j];
-            sample[2] = (float)cos(phi);
-            sample[3] = (float)sin(phi);
-        }
+        dipole_init(&d[c], s->material.sigma_a[c], s->material.sigma_s_prime[c], s->material.eta);
+        u->sigma_tr[c] = (float)d[c].sigma_tr;
+        u->z_r[c] = (float)d[c].z_r;
+        u->z_v[c] = (float)d[c].z_v;
+        u->alpha_prime[c] = (float)d[c].alpha_prime;
     }
-    u->params[0] = (float)s->material.eta;
-    u->params[2] = (float)s->samples;
+    if (s->sampling == LUCENT_SAMPLING_SHARED)
+        shared_samples(d, r_max, s->samples, u);
+    else
+        per_channel_samples(d, r_max, s->samples, u);
 }
 
 lucent_status frame_plan_build(const lucent_scene *scene, const struct lucent_mesh *mesh,
@@ -209,11 +234,11 @@ lucent_status frame_plan_build(const lucent_scene *scene, const struct lucent_me
     lucent_status st = plan_camera(scene, mesh, plan, err);
     if (st != LUCENT_OK)
         return st;
-    plan_lights(scene, mesh, plan);
+    plan_lights(scene, mesh, proxy_tolerance, plan);
     plan_material(scene, mesh, plan);
     struct frame_uniforms *u = &plan->uniforms;
-    u->params[3] = (float)plan->view_count;
-    u->proj[2] = (float)plan->scale_mm;
-    u->proj[3] = (float)(proxy_tolerance + mesh->radius * 1e-5);
+    u->params[0] = (float)scene->material.eta;
+    u->params[1] = (float)plan->scale_mm;
+    u->params[2] = (float)(proxy_tolerance + mesh->radius * 1e-5);
     return LUCENT_OK;
 }

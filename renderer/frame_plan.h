@@ -12,6 +12,7 @@ struct frame_plan {
     float camera_clip[16];
     float camera_eye[4];
     int view_count;                         /* 1 (single) or 5 */
+    int side_projection_size;               /* resolved side image size, texels */
     int shadow_count;                       /* shadow maps to draw */
     uint32_t shadow_mask;                   /* bit l: light l reads shadow map */
     int light_count;

@@ -18,7 +18,6 @@ struct frame_uniforms {
     float light_clip[LUCENT_MAX_LIGHTS][16];
     float light_depth[LUCENT_MAX_LIGHTS][4];
     float params[4];
-    float proj[4];
     float camera_eye[4];
     float sigma_tr[4];
     float z_r[4];

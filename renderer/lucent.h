@@ -59,6 +59,10 @@ const char *lucent_status_name(lucent_status s);
 /* ---- Scene ---- */
 typedef enum lucent_method { LUCENT_METHOD_FIVE = 0, LUCENT_METHOD_SINGLE } lucent_method;
 typedef enum lucent_format { LUCENT_FORMAT_PNG = 0, LUCENT_FORMAT_EXR } lucent_format;
+/* shared: every fetched texel feeds all three channels (multiple importance sampling over the
+ * three channels' profiles), `samples` fetches a pixel; per_channel: the paper's scheme, each
+ * channel samples its own profile, 3 x `samples` fetches. */
+typedef enum lucent_sampling { LUCENT_SAMPLING_SHARED = 0, LUCENT_SAMPLING_PER_CHANNEL } lucent_sampling;
 typedef enum lucent_light_type { LUCENT_LIGHT_DIRECTIONAL = 0, LUCENT_LIGHT_POINT } lucent_light_type;
 typedef enum lucent_mesh_source { LUCENT_MESH_BUILTIN = 0, LUCENT_MESH_FILE } lucent_mesh_source;
 
@@ -102,7 +106,9 @@ typedef struct lucent_scene {
     int width, height;
     lucent_method method;
     int samples;           /* per channel */
-    int projection_size;   /* side of each projection image, texels */
+    lucent_sampling sampling;
+    int projection_size;   /* side of the front projection image, texels */
+    int side_projection_size;  /* side of the four side images; 0 = projection_size / 2 */
     double background[4];  /* linear RGBA composited under the object on output */
     double exposure;       /* stops: output = radiance * 2^exposure */
     lucent_format format;

@@ -2,7 +2,9 @@
  * edited file is reloaded; builtins are keyed by name and triangle count. */
 #include "mesh_cache.h"
 
+#include <meshoptimizer.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
@@ -50,13 +52,19 @@ static lucent_status geometry_create(struct vk_context *ctx, const struct lucent
 {
     VkDeviceSize vbytes = (VkDeviceSize)m->vertex_count * 3 * sizeof(float);
     lucent_status st;
+    size_t index_count = (size_t)m->triangle_count * 3;
+    uint32_t *ordered = malloc(index_count * sizeof *ordered);
+    if (!ordered)
+        return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory ordering the mesh");
+    meshopt_optimizeVertexCache(ordered, m->indices, index_count, m->vertex_count);
     if ((st = upload(ctx, m->positions, vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, &g->positions, err)) ||
         (st = upload(ctx, m->normals, vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, &g->normals, err)) ||
-        (st = upload(ctx, m->indices, (VkDeviceSize)m->triangle_count * 3 * sizeof(uint32_t),
-                     VK_BUFFER_USAGE_INDEX_BUFFER_BIT, &g->indices, err))) {
+        (st = upload(ctx, ordered, index_count * sizeof *ordered, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, &g->indices, err))) {
+        free(ordered);
         geometry_destroy(ctx, g);
         return st;
     }
+    free(ordered);
     g->index_count = m->triangle_count * 3;
     return LUCENT_OK;
 }
@@ -77,21 +85,40 @@ static lucent_status slot_load(struct vk_context *ctx, const lucent_mesh_ref *re
                            : lucent_mesh_import_file(ref->file, &s->mesh, err);
     if (st != LUCENT_OK)
         return st;
-    if ((st = geometry_create(ctx, s->mesh, &s->full, err)) != LUCENT_OK)
-        return st;
-    if (s->mesh->triangle_count > PROXY_THRESHOLD) {
-        struct lucent_mesh *proxy = mesh_simplify(s->mesh, PROXY_TRIANGLES);
-        if (!proxy)
-            return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory simplifying the mesh");
+    return geometry_create(ctx, s->mesh, &s->full, err);
+}
+
+static uint32_t proxy_target(int projection_size)
+{
+    uint32_t target = (uint32_t)projection_size * (uint32_t)projection_size / PROXY_TEXELS_PER_TRIANGLE;
+    return target > PROXY_MIN_TRIANGLES ? target : PROXY_MIN_TRIANGLES;
+}
+
+/* (Re)builds the proxy when the projection size calls for a different one. */
+static lucent_status ensure_proxy(struct vk_context *ctx, struct gpu_mesh *s, int projection_size, lucent_error *err)
+{
+    uint32_t target = proxy_target(projection_size);
+    int wanted = s->mesh->triangle_count > target + target / 2;
+    if ((!wanted && !s->proxy.index_count) || (wanted && s->proxy_target == target))
+        return LUCENT_OK;
+    geometry_destroy(ctx, &s->proxy);
+    s->proxy_target = s->proxy_triangles = 0;
+    if (!wanted)
+        return LUCENT_OK;
+    struct lucent_mesh *proxy = mesh_simplify(s->mesh, target);
+    if (!proxy)
+        return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory simplifying the mesh");
+    lucent_status st = geometry_create(ctx, proxy, &s->proxy, err);
+    if (st == LUCENT_OK) {
+        s->proxy_target = target;
         s->proxy_triangles = proxy->triangle_count;
-        st = geometry_create(ctx, proxy, &s->proxy, err);
-        lucent_mesh_free(proxy);
     }
+    lucent_mesh_free(proxy);
     return st;
 }
 
 lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, const lucent_mesh_ref *ref,
-                             struct gpu_mesh **out, double *load_ms, lucent_error *err)
+                             int projection_size, struct gpu_mesh **out, double *load_ms, lucent_error *err)
 {
     char key[sizeof cache->slots[0].key];
     lucent_status st = mesh_key(ref, key, sizeof key, err);
@@ -102,9 +129,12 @@ lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, c
     for (int i = 0; i < MESH_CACHE_SLOTS; i++) {
         struct gpu_mesh *s = &cache->slots[i];
         if (s->mesh && strcmp(s->key, key) == 0) {
+            double t0 = now_ms();
             s->last_used = ++cache->clock;
             *out = s;
-            return LUCENT_OK;
+            st = ensure_proxy(ctx, s, projection_size, err);
+            *load_ms = now_ms() - t0;
+            return st;
         }
         if (!s->mesh || (victim->mesh && s->last_used < victim->last_used))
             victim = s;
@@ -114,6 +144,8 @@ lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, c
      * synchronous, so none is. */
     slot_clear(ctx, victim);
     st = slot_load(ctx, ref, victim, err);
+    if (st == LUCENT_OK)
+        st = ensure_proxy(ctx, victim, projection_size, err);
     if (st != LUCENT_OK) {
         slot_clear(ctx, victim);
         return st;

@@ -7,10 +7,12 @@
 #include "vk_resources.h"
 
 #define MESH_CACHE_SLOTS 4
-/* Meshes above PROXY_THRESHOLD triangles get a proxy of PROXY_TRIANGLES for the projection
- * images: a 512^2 projection image cannot resolve more, and those passes cost per triangle. */
-#define PROXY_TRIANGLES 65536u
-#define PROXY_THRESHOLD (2u * PROXY_TRIANGLES)
+/* The projection and shadow passes draw a simplified proxy when the mesh has more triangles than
+ * the front projection image can use: irradiance and depth are smooth, so about 8 texels per
+ * triangle (projection_size^2 / 8 triangles, at least PROXY_MIN_TRIANGLES) loses little, and
+ * those passes cost per triangle on CPU drivers. Meshes within 1.5x of the target draw in full. */
+#define PROXY_TEXELS_PER_TRIANGLE 8u
+#define PROXY_MIN_TRIANGLES 8192u
 /* How far the proxy may stray from the mesh, as a fraction of the bounding radius. */
 #define PROXY_TOLERANCE 0.01
 
@@ -24,6 +26,7 @@ struct gpu_mesh {
     struct lucent_mesh *mesh;
     struct gpu_geometry full;
     struct gpu_geometry proxy;     /* index_count 0: the projection passes draw `full` */
+    uint32_t proxy_target;         /* triangle budget the proxy was built for */
     uint32_t proxy_triangles;
     uint64_t last_used;
 };
@@ -33,9 +36,10 @@ struct mesh_cache {
     uint64_t clock;
 };
 
-/* Finds or loads the mesh a scene names. load_ms is the import + upload time (0 on a hit). */
+/* Finds or loads the mesh a scene names, with a proxy for the given projection size when it needs
+ * one. load_ms is the import, simplification and upload time (0 on a hit). */
 lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, const lucent_mesh_ref *ref,
-                             struct gpu_mesh **out, double *load_ms, lucent_error *err);
+                             int projection_size, struct gpu_mesh **out, double *load_ms, lucent_error *err);
 void mesh_cache_destroy(struct vk_context *ctx, struct mesh_cache *cache);
 
 #endif

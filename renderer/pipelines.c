@@ -17,8 +17,10 @@ struct shader_code {
 };
 #define SHADER(name) ((struct shader_code){name, sizeof name})
 
+/* Color attachments end up sampled by shaders, or copied when for_copy is set; the depth
+ * attachment is kept only when sample_depth is set (shadow maps). */
 static lucent_status make_render_pass(struct vk_context *ctx, uint32_t colors, VkFormat color_format,
-                                      int sample_depth, uint32_t view_mask, VkRenderPass *out,
+                                      int sample_depth, uint32_t view_mask, int for_copy, VkRenderPass *out,
                                       lucent_error *err)
 {
     lucent_status st = LUCENT_OK;
@@ -29,7 +31,8 @@ static lucent_status make_render_pass(struct vk_context *ctx, uint32_t colors, V
             .format = color_format, .samples = VK_SAMPLE_COUNT_1_BIT,
             .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR, .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
             .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE, .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
-            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED, .finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+            .finalLayout = for_copy ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
         color_ref[i] = (VkAttachmentReference){i, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
     }
     att[colors] = (VkAttachmentDescription){
@@ -49,9 +52,12 @@ static lucent_status make_render_pass(struct vk_context *ctx, uint32_t colors, V
                                    VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
                                    VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
     VkAccessFlags writes = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    if (for_copy)
+        readers = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    VkAccessFlags reads = for_copy ? VK_ACCESS_TRANSFER_READ_BIT : VK_ACCESS_SHADER_READ_BIT;
     VkSubpassDependency deps[2] = {
         {VK_SUBPASS_EXTERNAL, 0, readers, writers, 0, writes, 0},
-        {0, VK_SUBPASS_EXTERNAL, writers, readers, writes, VK_ACCESS_SHADER_READ_BIT, 0}};
+        {0, VK_SUBPASS_EXTERNAL, writers, readers, writes, reads, 0}};
     VkRenderPassMultiviewCreateInfo mv = {.sType = VK_STRUCTURE_TYPE_RENDER_PASS_MULTIVIEW_CREATE_INFO,
                                           .subpassCount = 1, .pViewMasks = &view_mask,
                                           .correlationMaskCount = 1, .pCorrelationMasks = &view_mask};
@@ -171,7 +177,8 @@ fail:
     return st;
 }
 
-static lucent_status make_scatter_pipeline(struct vk_context *ctx, struct pipelines *p, lucent_error *err)
+static lucent_status make_scatter_pipeline(struct vk_context *ctx, struct pipelines *p,
+                                           const VkSpecializationInfo *spec, VkPipeline *out, lucent_error *err)
 {
     lucent_status st = LUCENT_OK;
     VkShaderModule module = VK_NULL_HANDLE;
@@ -180,9 +187,10 @@ static lucent_status make_scatter_pipeline(struct vk_context *ctx, struct pipeli
     VkComputePipelineCreateInfo ci = {
         .sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
         .stage = {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
-                  .stage = VK_SHADER_STAGE_COMPUTE_BIT, .module = module, .pName = "main"},
+                  .stage = VK_SHADER_STAGE_COMPUTE_BIT, .module = module, .pName = "main",
+                  .pSpecializationInfo = spec},
         .layout = p->scatter_layout};
-    VK_TRY(vkCreateComputePipelines(ctx->device, VK_NULL_HANDLE, 1, &ci, NULL, &p->scatter), err);
+    VK_TRY(vkCreateComputePipelines(ctx->device, VK_NULL_HANDLE, 1, &ci, NULL, out), err);
 fail:
     vkDestroyShaderModule(ctx->device, module, NULL);
     return st;
@@ -201,7 +209,7 @@ static lucent_status make_layouts(struct vk_context *ctx, struct pipelines *p, l
     if ((st = make_set_layout(ctx, projection_types, 2, raster, &p->projection_set_layout, err)) ||
         (st = make_set_layout(ctx, scatter_types, 7, VK_SHADER_STAGE_COMPUTE_BIT, &p->scatter_set_layout, err)) ||
         (st = make_layout(ctx, VK_NULL_HANDLE, 64, VK_SHADER_STAGE_VERTEX_BIT, &p->shadow_layout, err)) ||
-        (st = make_layout(ctx, p->projection_set_layout, 0, 0, &p->projection_layout, err)) ||
+        (st = make_layout(ctx, p->projection_set_layout, sizeof(int32_t), raster, &p->projection_layout, err)) ||
         (st = make_layout(ctx, VK_NULL_HANDLE, sizeof(struct gbuffer_push), raster, &p->gbuffer_layout, err)) ||
         (st = make_layout(ctx, p->scatter_set_layout, 8, VK_SHADER_STAGE_COMPUTE_BIT, &p->scatter_layout, err)))
         return st;
@@ -229,10 +237,11 @@ lucent_status pipelines_create(struct vk_context *ctx, struct pipelines *p, luce
 {
     lucent_status st;
     memset(p, 0, sizeof *p);
-    if ((st = make_render_pass(ctx, 0, VK_FORMAT_UNDEFINED, 1, 0, &p->shadow_pass, err)) ||
-        (st = make_render_pass(ctx, 1, PROJECTION_FORMAT, 0, 0x1, &p->projection_pass[PROJECTION_ONE], err)) ||
-        (st = make_render_pass(ctx, 1, PROJECTION_FORMAT, 0, 0x1f, &p->projection_pass[PROJECTION_FIVE], err)) ||
-        (st = make_render_pass(ctx, 2, GBUFFER_FORMAT, 0, 0, &p->gbuffer_pass, err)) ||
+    if ((st = make_render_pass(ctx, 0, VK_FORMAT_UNDEFINED, 1, 0, 0, &p->shadow_pass, err)) ||
+        (st = make_render_pass(ctx, 1, PROJECTION_FORMAT, 0, 0, 0, &p->projection_pass[PROJECTION_FRONT], err)) ||
+        (st = make_render_pass(ctx, 1, PROJECTION_FORMAT, 0, (1u << SIDE_VIEWS) - 1, 1,
+                               &p->projection_pass[PROJECTION_SIDES], err)) ||
+        (st = make_render_pass(ctx, 2, GBUFFER_FORMAT, 0, 0, 0, &p->gbuffer_pass, err)) ||
         (st = make_layouts(ctx, p, err)) || (st = make_sampler(ctx, 0, &p->nearest, err)) ||
         (st = make_sampler(ctx, 1, &p->shadow_compare, err)))
         goto fail;
@@ -241,8 +250,7 @@ lucent_status pipelines_create(struct vk_context *ctx, struct pipelines *p, luce
     struct raster_desc gbuffer = {p->gbuffer_pass, p->gbuffer_layout, SHADER(gbuffer_vert),
                                   SHADER(gbuffer_frag), NULL, 2, 1};
     if ((st = make_raster_pipeline(ctx, &shadow, &p->shadow, err)) ||
-        (st = make_raster_pipeline(ctx, &gbuffer, &p->gbuffer, err)) ||
-        (st = make_scatter_pipeline(ctx, p, err)))
+        (st = make_raster_pipeline(ctx, &gbuffer, &p->gbuffer, err)))
         goto fail;
     return LUCENT_OK;
 fail:
@@ -271,14 +279,34 @@ lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, 
     return LUCENT_OK;
 }
 
+lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, int samples, int views,
+                                lucent_sampling sampling, VkPipeline *out, lucent_error *err)
+{
+    if (samples < 1 || samples > LUCENT_MAX_SAMPLES || (views != 1 && views != 5))
+        return lucent_fail(err, LUCENT_E_INTERNAL, "", "no scatter pipeline for %d samples, %d views", samples, views);
+    int shared = sampling == LUCENT_SAMPLING_SHARED;
+    size_t slot = ((size_t)(samples - 1) * 2 + (views == 5)) * 2 + (size_t)shared;
+    if (!p->scatter[slot]) {
+        int32_t values[3] = {samples, views, shared};
+        VkSpecializationMapEntry entries[3] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}};
+        VkSpecializationInfo spec = {3, entries, sizeof values, values};
+        lucent_status st = make_scatter_pipeline(ctx, p, &spec, &p->scatter[slot], err);
+        if (st != LUCENT_OK)
+            return st;
+    }
+    *out = p->scatter[slot];
+    return LUCENT_OK;
+}
+
 void pipelines_destroy(struct vk_context *ctx, struct pipelines *p)
 {
     VkDevice d = ctx->device;
-    VkPipeline pipes[] = {p->shadow, p->gbuffer, p->scatter};
-    for (size_t i = 0; i < sizeof pipes / sizeof pipes[0]; i++)
-        vkDestroyPipeline(d, pipes[i], NULL);
+    vkDestroyPipeline(d, p->shadow, NULL);
+    vkDestroyPipeline(d, p->gbuffer, NULL);
     for (size_t i = 0; i < PROJECTION_VARIANTS; i++)
         vkDestroyPipeline(d, p->projection[i], NULL);
+    for (size_t i = 0; i < SCATTER_VARIANTS; i++)
+        vkDestroyPipeline(d, p->scatter[i], NULL);
     VkPipelineLayout layouts[] = {p->shadow_layout, p->projection_layout, p->gbuffer_layout, p->scatter_layout};
     for (size_t i = 0; i < sizeof layouts / sizeof layouts[0]; i++)
         vkDestroyPipelineLayout(d, layouts[i], NULL);

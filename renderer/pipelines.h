@@ -9,12 +9,17 @@
 #define GBUFFER_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
 #define DEPTH_FORMAT VK_FORMAT_D32_SFLOAT
 
-/* Index into projection_pass/projection: one view (method "single") or five (multiview). */
-enum { PROJECTION_ONE = 0, PROJECTION_FIVE = 1 };
+/* The projection images are drawn in two passes: the front view at projection_size, and the four
+ * side views in one multiview pass at their own (smaller) size, copied afterwards into the corners
+ * of layers 1-4 of the front image's array. Index into projection_pass and the variant key. */
+enum { PROJECTION_FRONT = 0, PROJECTION_SIDES = 1 };
+#define SIDE_VIEWS 4
 
 /* Projection pipelines are specialized by view count, light count and which lights are shadowed:
  * CPU drivers pay for every branch, taken or not. Built on first use, kept for the renderer's life. */
 #define PROJECTION_VARIANTS (2 * LUCENT_MAX_LIGHTS * (1 << LUCENT_MAX_LIGHTS))
+/* Scatter pipelines likewise, by sample count, view count and sampling scheme. */
+#define SCATTER_VARIANTS (LUCENT_MAX_SAMPLES * 2 * 2)
 
 struct pipelines {
     VkRenderPass shadow_pass;
@@ -23,8 +28,9 @@ struct pipelines {
     VkDescriptorSetLayout projection_set_layout;
     VkDescriptorSetLayout scatter_set_layout;
     VkPipelineLayout shadow_layout, projection_layout, gbuffer_layout, scatter_layout;
-    VkPipeline shadow, gbuffer, scatter;
+    VkPipeline shadow, gbuffer;
     VkPipeline projection[PROJECTION_VARIANTS];
+    VkPipeline scatter[SCATTER_VARIANTS];
     VkSampler nearest;
     VkSampler shadow_compare;   /* depth comparison with 2x2 filtering (PCF) */
 };
@@ -35,10 +41,14 @@ struct gbuffer_push {
 };
 
 lucent_status pipelines_create(struct vk_context *ctx, struct pipelines *p, lucent_error *err);
-/* The projection pipeline for `which` (PROJECTION_ONE/FIVE), 1..LUCENT_MAX_LIGHTS lights and a
+/* The projection pipeline for `which` (PROJECTION_FRONT/SIDES), 1..LUCENT_MAX_LIGHTS lights and a
  * shadow mask (bit l: light l is shadowed), created on first use. */
 lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, int which, int lights,
                                    uint32_t shadow_mask, VkPipeline *out, lucent_error *err);
+/* The scatter pipeline for 1..LUCENT_MAX_SAMPLES samples, 1 or 5 views, shared or per-channel
+ * sampling, created on first use. */
+lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, int samples, int views,
+                                lucent_sampling sampling, VkPipeline *out, lucent_error *err);
 void pipelines_destroy(struct vk_context *ctx, struct pipelines *p);
 
 #endif

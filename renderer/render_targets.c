@@ -35,19 +35,25 @@ static lucent_status make_shadow_maps(struct vk_context *ctx, const struct pipel
 static lucent_status make_projection(struct vk_context *ctx, const struct pipelines *p,
                                      struct render_targets *t, lucent_error *err)
 {
-    uint32_t s = t->projection_size;
+    uint32_t s = t->projection_size, side = t->side_size;
+    VkImageUsageFlags depth = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
     lucent_status st;
     if ((st = vk_image_create(ctx, s, s, FRAME_MAX_VIEWS, PROJECTION_FORMAT,
-                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                                  VK_IMAGE_USAGE_TRANSFER_DST_BIT,
                               &t->projection, err)) ||
-        (st = vk_image_create(ctx, s, s, FRAME_MAX_VIEWS, DEPTH_FORMAT,
-                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, &t->projection_depth, err)))
+        (st = vk_image_layer_view(ctx, &t->projection, 0, &t->front_layer, err)) ||
+        (st = vk_image_create(ctx, s, s, 1, DEPTH_FORMAT, depth, &t->front_depth, err)) ||
+        (st = vk_image_create(ctx, side, side, SIDE_VIEWS, PROJECTION_FORMAT,
+                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, &t->sides,
+                              err)) ||
+        (st = vk_image_create(ctx, side, side, SIDE_VIEWS, DEPTH_FORMAT, depth, &t->sides_depth, err)))
         return st;
-    VkImageView views[2] = {t->projection.view, t->projection_depth.view};
-    for (int i = PROJECTION_ONE; i <= PROJECTION_FIVE; i++)
-        if ((st = make_framebuffer(ctx, p->projection_pass[i], views, 2, s, s, &t->projection_fb[i], err)))
-            return st;
-    return LUCENT_OK;
+    VkImageView front[2] = {t->front_layer, t->front_depth.view};
+    VkImageView sides[2] = {t->sides.view, t->sides_depth.view};
+    if ((st = make_framebuffer(ctx, p->projection_pass[PROJECTION_FRONT], front, 2, s, s, &t->front_fb, err)))
+        return st;
+    return make_framebuffer(ctx, p->projection_pass[PROJECTION_SIDES], sides, 2, side, side, &t->sides_fb, err);
 }
 
 static lucent_status make_gbuffer(struct vk_context *ctx, const struct pipelines *p, struct render_targets *t,
@@ -126,22 +132,32 @@ fail:
     return st;
 }
 
-/* Shadow layers that no frame has drawn yet are still bound for sampling: give them a valid layout. */
-static lucent_status prepare_shadow_layout(struct vk_context *ctx, struct render_targets *t, lucent_error *err)
+static VkImageMemoryBarrier to_shader_read(VkImage image, VkImageAspectFlags aspect, uint32_t first,
+                                           uint32_t count)
+{
+    return (VkImageMemoryBarrier){.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                                  .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+                                  .newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                  .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                                  .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED, .image = image,
+                                  .subresourceRange = {aspect, 0, 1, first, count},
+                                  .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};
+}
+
+/* Shadow layers and side images that no frame has drawn yet are still bound for sampling: give
+ * them a valid layout. */
+static lucent_status prepare_layouts(struct vk_context *ctx, struct render_targets *t, lucent_error *err)
 {
     lucent_status st = LUCENT_OK;
     VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                    .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     VK_TRY(vkBeginCommandBuffer(ctx->cmd, &bi), err);
-    VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
-                              .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-                              .newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                              .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                              .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED, .image = t->shadow_depth.image,
-                              .subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, LUCENT_MAX_LIGHTS},
-                              .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};
-    vkCmdPipelineBarrier(ctx->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0,
-                         0, NULL, 0, NULL, 1, &b);
+    VkImageMemoryBarrier b[2] = {
+        to_shader_read(t->shadow_depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, 0, LUCENT_MAX_LIGHTS),
+        to_shader_read(t->projection.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, SIDE_VIEWS)};
+    vkCmdPipelineBarrier(ctx->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                         VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL,
+                         0, NULL, 2, b);
     VK_TRY(vkEndCommandBuffer(ctx->cmd), err);
     st = vk_submit_and_wait(ctx, err);
 fail:
@@ -150,16 +166,18 @@ fail:
 
 lucent_status render_targets_create(struct vk_context *ctx, const struct pipelines *p,
                                     const struct vk_buffer *uniforms, uint32_t width, uint32_t height,
-                                    uint32_t projection_size, struct render_targets *t, lucent_error *err)
+                                    uint32_t projection_size, uint32_t side_size, struct render_targets *t,
+                                    lucent_error *err)
 {
     lucent_status st;
     memset(t, 0, sizeof *t);
     t->width = width;
     t->height = height;
     t->projection_size = projection_size;
+    t->side_size = side_size;
     if ((st = make_shadow_maps(ctx, p, t, err)) || (st = make_projection(ctx, p, t, err)) ||
         (st = make_gbuffer(ctx, p, t, err)) || (st = make_output(ctx, t, err)) ||
-        (st = make_descriptor_sets(ctx, p, uniforms, t, err)) || (st = prepare_shadow_layout(ctx, t, err))) {
+        (st = make_descriptor_sets(ctx, p, uniforms, t, err)) || (st = prepare_layouts(ctx, t, err))) {
         render_targets_destroy(ctx, t);
         return st;
     }
@@ -175,9 +193,12 @@ void render_targets_destroy(struct vk_context *ctx, struct render_targets *t)
     vk_image_destroy(ctx, &t->gbuffer_depth);
     vk_image_destroy(ctx, &t->gbuffer_normal);
     vk_image_destroy(ctx, &t->gbuffer_position);
-    for (int i = 0; i < 2; i++)
-        vkDestroyFramebuffer(d, t->projection_fb[i], NULL);
-    vk_image_destroy(ctx, &t->projection_depth);
+    vkDestroyFramebuffer(d, t->sides_fb, NULL);
+    vk_image_destroy(ctx, &t->sides_depth);
+    vk_image_destroy(ctx, &t->sides);
+    vkDestroyFramebuffer(d, t->front_fb, NULL);
+    vk_image_destroy(ctx, &t->front_depth);
+    vkDestroyImageView(d, t->front_layer, NULL);
     vk_image_destroy(ctx, &t->projection);
     for (int l = 0; l < LUCENT_MAX_LIGHTS; l++) {
         vkDestroyFramebuffer(d, t->shadow_fb[l], NULL);

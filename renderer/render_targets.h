@@ -8,12 +8,16 @@
 #include "vk_resources.h"
 
 struct render_targets {
-    uint32_t width, height, projection_size;
+    uint32_t width, height, projection_size, side_size;
     struct vk_image shadow_depth;                 /* SHADOW_MAP_SIZE^2 x LUCENT_MAX_LIGHTS layers */
     VkImageView shadow_layer[LUCENT_MAX_LIGHTS];
     VkFramebuffer shadow_fb[LUCENT_MAX_LIGHTS];
-    struct vk_image projection, projection_depth; /* projection_size^2 x 5 layers */
-    VkFramebuffer projection_fb[2];
+    struct vk_image projection;                   /* projection_size^2 x 5 layers, sampled */
+    VkImageView front_layer;
+    struct vk_image front_depth;
+    VkFramebuffer front_fb;
+    struct vk_image sides, sides_depth;           /* side_size^2 x 4 layers, copied into projection */
+    VkFramebuffer sides_fb;
     struct vk_image gbuffer_position, gbuffer_normal, gbuffer_depth;
     VkFramebuffer gbuffer_fb;
     struct vk_buffer output;                      /* color, normal+view, depth arrays */
@@ -24,7 +28,8 @@ struct render_targets {
 
 lucent_status render_targets_create(struct vk_context *ctx, const struct pipelines *p,
                                     const struct vk_buffer *uniforms, uint32_t width, uint32_t height,
-                                    uint32_t projection_size, struct render_targets *t, lucent_error *err);
+                                    uint32_t projection_size, uint32_t side_size, struct render_targets *t,
+                                    lucent_error *err);
 void render_targets_destroy(struct vk_context *ctx, struct render_targets *t);
 
 #endif

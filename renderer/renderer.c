@@ -83,6 +83,10 @@ static lucent_status check_scene(const lucent_scene *s, lucent_error *err)
     if (s->projection_size < LUCENT_MIN_PROJECTION_SIZE || s->projection_size > LUCENT_MAX_PROJECTION_SIZE)
         return lucent_fail(err, LUCENT_E_LIMIT, "projection_size", "must be %d..%d", LUCENT_MIN_PROJECTION_SIZE,
                            LUCENT_MAX_PROJECTION_SIZE);
+    if (s->side_projection_size < 0 || s->side_projection_size > s->projection_size ||
+        (s->side_projection_size && s->side_projection_size < LUCENT_MIN_PROJECTION_SIZE))
+        return lucent_fail(err, LUCENT_E_LIMIT, "side_projection_size", "must be 0 or %d..projection_size",
+                           LUCENT_MIN_PROJECTION_SIZE);
     if (s->samples < 1 || s->samples > LUCENT_MAX_SAMPLES)
         return lucent_fail(err, LUCENT_E_LIMIT, "samples", "must be 1..%d", LUCENT_MAX_SAMPLES);
     if (s->light_count < 1 || s->light_count > LUCENT_MAX_LIGHTS)
@@ -90,17 +94,18 @@ static lucent_status check_scene(const lucent_scene *s, lucent_error *err)
     return LUCENT_OK;
 }
 
-static lucent_status ensure_targets(lucent_renderer *r, const lucent_scene *s, lucent_error *err)
+static lucent_status ensure_targets(lucent_renderer *r, const lucent_scene *s, int side_size, lucent_error *err)
 {
     struct render_targets *t = &r->targets;
     if (t->width == (uint32_t)s->width && t->height == (uint32_t)s->height &&
-        t->projection_size == (uint32_t)s->projection_size)
+        t->projection_size == (uint32_t)s->projection_size && t->side_size == (uint32_t)side_size)
         return LUCENT_OK;
     render_targets_destroy(&r->ctx, t);
     if (r->verbose)
-        fprintf(stderr, "lucent: render targets %dx%d, projection %d\n", s->width, s->height, s->projection_size);
+        fprintf(stderr, "lucent: render targets %dx%d, projection %d, sides %d\n", s->width, s->height,
+                s->projection_size, side_size);
     return render_targets_create(&r->ctx, &r->pipes, &r->uniforms, (uint32_t)s->width, (uint32_t)s->height,
-                                 (uint32_t)s->projection_size, t, err);
+                                 (uint32_t)s->projection_size, (uint32_t)side_size, t, err);
 }
 
 static void set_viewport(VkCommandBuffer cmd, uint32_t w, uint32_t h)
@@ -149,20 +154,52 @@ static void record_shadows(lucent_renderer *r, const struct frame_plan *plan, co
     }
 }
 
-static void record_projection(lucent_renderer *r, const struct frame_plan *plan, const struct gpu_geometry *g,
-                              VkPipeline pipeline)
+static void record_projection_pass(lucent_renderer *r, int which, const struct gpu_geometry *g, VkPipeline pipeline)
 {
     VkCommandBuffer cmd = r->ctx.cmd;
-    int which = plan->view_count > 1 ? PROJECTION_FIVE : PROJECTION_ONE;
+    const struct render_targets *t = &r->targets;
     /* Depth -1 marks texels no surface covers. */
     VkClearValue clears[2] = {{.color = {{0.0f, 0.0f, 0.0f, -1.0f}}}, {.depthStencil = {1.0f, 0}}};
-    uint32_t side = r->targets.projection_size;
-    begin_pass(cmd, r->pipes.projection_pass[which], r->targets.projection_fb[which], side, side, clears, 2);
+    uint32_t side = which == PROJECTION_FRONT ? t->projection_size : t->side_size;
+    int32_t view_base = which == PROJECTION_FRONT ? 0 : 1;
+    begin_pass(cmd, r->pipes.projection_pass[which], which == PROJECTION_FRONT ? t->front_fb : t->sides_fb, side,
+               side, clears, 2);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->pipes.projection_layout, 0, 1,
-                            &r->targets.projection_set, 0, NULL);
+                            &t->projection_set, 0, NULL);
+    vkCmdPushConstants(cmd, r->pipes.projection_layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT,
+                       0, sizeof view_base, &view_base);
     draw(cmd, g, 1);
     vkCmdEndRenderPass(cmd);
+}
+
+/* The side images go into the top-left side_size^2 corner of layers 1-4 of the sampled array,
+ * where the scatter pass's texel coordinates for those views point. */
+static void copy_sides(lucent_renderer *r)
+{
+    VkCommandBuffer cmd = r->ctx.cmd;
+    const struct render_targets *t = &r->targets;
+    VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                              .srcAccessMask = VK_ACCESS_SHADER_READ_BIT,
+                              .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                              .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+                              .newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                              .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                              .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED, .image = t->projection.image,
+                              .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 1, SIDE_VIEWS}};
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0,
+                         NULL, 1, &b);
+    VkImageCopy region = {.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, SIDE_VIEWS},
+                          .dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, SIDE_VIEWS},
+                          .extent = {t->side_size, t->side_size, 1}};
+    vkCmdCopyImage(cmd, t->sides.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, t->projection.image,
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+    b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    b.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL, 0,
+                         NULL, 1, &b);
 }
 
 static void record_gbuffer(lucent_renderer *r, const struct frame_plan *plan, const struct gpu_geometry *g)
@@ -180,11 +217,11 @@ static void record_gbuffer(lucent_renderer *r, const struct frame_plan *plan, co
     vkCmdEndRenderPass(cmd);
 }
 
-static void record_scatter(lucent_renderer *r)
+static void record_scatter(lucent_renderer *r, VkPipeline pipeline)
 {
     VkCommandBuffer cmd = r->ctx.cmd;
     int32_t size[2] = {(int32_t)r->targets.width, (int32_t)r->targets.height};
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->pipes.scatter);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->pipes.scatter_layout, 0, 1,
                             &r->targets.scatter_set, 0, NULL);
     vkCmdPushConstants(cmd, r->pipes.scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof size, size);
@@ -195,15 +232,21 @@ static void record_scatter(lucent_renderer *r)
                          0, NULL, 0, NULL);
 }
 
-static lucent_status record_frame(lucent_renderer *r, const struct frame_plan *plan, const struct gpu_mesh *gm,
-                                  lucent_error *err)
+static lucent_status record_frame(lucent_renderer *r, const lucent_scene *s, const struct frame_plan *plan,
+                                  const struct gpu_mesh *gm, lucent_error *err)
 {
     lucent_status st = LUCENT_OK;
     VkCommandBuffer cmd = r->ctx.cmd;
     const struct gpu_geometry *projected = gm->proxy.index_count ? &gm->proxy : &gm->full;
-    VkPipeline projection;
-    st = pipelines_projection(&r->ctx, &r->pipes, plan->view_count > 1 ? PROJECTION_FIVE : PROJECTION_ONE,
-                              plan->light_count, plan->shadow_mask, &projection, err);
+    VkPipeline front, sides = VK_NULL_HANDLE, scatter;
+    int five = plan->view_count > 1;
+    st = pipelines_projection(&r->ctx, &r->pipes, PROJECTION_FRONT, plan->light_count, plan->shadow_mask, &front,
+                              err);
+    if (st == LUCENT_OK && five)
+        st = pipelines_projection(&r->ctx, &r->pipes, PROJECTION_SIDES, plan->light_count, plan->shadow_mask, &sides,
+                                  err);
+    if (st == LUCENT_OK)
+        st = pipelines_scatter(&r->ctx, &r->pipes, s->samples, plan->view_count, s->sampling, &scatter, err);
     if (st != LUCENT_OK)
         return st;
     VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
@@ -214,11 +257,15 @@ static lucent_status record_frame(lucent_renderer *r, const struct frame_plan *p
     stamp(r, TS_START);
     record_shadows(r, plan, projected);
     stamp(r, TS_SHADOW);
-    record_projection(r, plan, projected, projection);
+    record_projection_pass(r, PROJECTION_FRONT, projected, front);
+    if (five) {
+        record_projection_pass(r, PROJECTION_SIDES, projected, sides);
+        copy_sides(r);
+    }
     stamp(r, TS_PROJECTION);
     record_gbuffer(r, plan, &gm->full);
     stamp(r, TS_GBUFFER);
-    record_scatter(r);
+    record_scatter(r, scatter);
     stamp(r, TS_SCATTER);
     VK_TRY(vkEndCommandBuffer(cmd), err);
 fail:
@@ -261,15 +308,19 @@ static void describe(const lucent_scene *s, const struct frame_plan *plan, const
 {
     char lights[512] = "";
     size_t n = 0;
+    int shared = s->sampling == LUCENT_SAMPLING_SHARED;
     for (int l = 0; l < s->light_count && n < sizeof lights; l++)
         n += (size_t)snprintf(lights + n, sizeof lights - n, "%s\"%s\"", l ? "," : "", plan->shadow_reason[l]);
     snprintf(stats->modelled, sizeof stats->modelled,
-             "{\"method\":\"%s\",\"views\":%d,\"samples_per_channel\":%d,\"projection_size\":%d,"
+             "{\"method\":\"%s\",\"views\":%d,\"samples_per_channel\":%d,\"sampling\":\"%s\","
+             "\"texel_fetches_per_pixel\":%d,\"projection_size\":%d,\"side_projection_size\":%d,"
              "\"scale_mm\":%.9g,\"shadows\":[%s],\"projection_mesh\":\"%s\","
              "\"hidden_point_fallback\":\"next best-facing visible view, then front\","
              "\"single_scattering\":false}",
              s->method == LUCENT_METHOD_SINGLE ? "single" : "five", plan->view_count, s->samples,
-             s->projection_size, plan->scale_mm, lights, gm->proxy.index_count ? "proxy" : "full");
+             shared ? "shared" : "per_channel", shared ? s->samples : 3 * s->samples, s->projection_size,
+             plan->view_count > 1 ? plan->side_projection_size : 0, plan->scale_mm, lights,
+             gm->proxy.index_count ? "proxy" : "full");
     stats->triangles = gm->mesh->triangle_count;
     stats->proxy_triangles = gm->proxy_triangles;
     stats->shadow_maps = plan->shadow_count;
@@ -289,14 +340,16 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
     struct gpu_mesh *gm;
     struct frame_plan *plan = &r->plan;
     lucent_status st;
-    if ((st = check_scene(scene, err)) || (st = ensure_targets(r, scene, err)) ||
-        (st = mesh_cache_get(&r->ctx, &r->meshes, &scene->mesh, &gm, &stats->ms_mesh_load, err)))
+    if ((st = check_scene(scene, err)) ||
+        (st = mesh_cache_get(&r->ctx, &r->meshes, &scene->mesh, scene->projection_size, &gm, &stats->ms_mesh_load,
+                                    err)))
         return st;
     double tolerance = gm->proxy.index_count ? PROXY_TOLERANCE * gm->mesh->radius : 0.0;
-    if ((st = frame_plan_build(scene, gm->mesh, tolerance, plan, err)))
+    if ((st = frame_plan_build(scene, gm->mesh, tolerance, plan, err)) ||
+        (st = ensure_targets(r, scene, plan->side_projection_size, err)))
         return st;
     memcpy(r->uniforms.mapped, &plan->uniforms, sizeof plan->uniforms);
-    if ((st = record_frame(r, plan, gm, err)) || (st = vk_submit_and_wait(&r->ctx, err)))
+    if ((st = record_frame(r, scene, plan, gm, err)) || (st = vk_submit_and_wait(&r->ctx, err)))
         return st;
     read_pass_times(r, stats);
     double t1 = now_ms();

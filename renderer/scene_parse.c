@@ -63,12 +63,15 @@ static const char *const light_type_names[] = {
     [LUCENT_LIGHT_DIRECTIONAL] = "directional", [LUCENT_LIGHT_POINT] = "point", NULL};
 static const char *const method_names[] = {
     [LUCENT_METHOD_FIVE] = "five", [LUCENT_METHOD_SINGLE] = "single", NULL};
+static const char *const sampling_names[] = {
+    [LUCENT_SAMPLING_SHARED] = "shared", [LUCENT_SAMPLING_PER_CHANNEL] = "per_channel", NULL};
 static const char *const format_names[] = {
     [LUCENT_FORMAT_PNG] = "png", [LUCENT_FORMAT_EXR] = "exr", NULL};
 
 static const char *const top_keys[] = {"mesh", "scale_mm", "material", "lights", "camera",
-                                       "width", "height", "method", "samples", "projection_size",
-                                       "background", "exposure", "format", NULL};
+                                       "width", "height", "method", "samples", "sampling",
+                                       "projection_size", "side_projection_size", "background",
+                                       "exposure", "format", NULL};
 static const char *const mesh_keys[] = {"builtin", "triangles", "file", NULL};
 static const char *const material_keys[] = {"preset", "sigma_a", "sigma_s_prime", "eta", NULL};
 static const char *const directional_keys[] = {"type", "direction", "color", "intensity", NULL};
@@ -605,9 +608,16 @@ static lucent_status parse_background(json_t *doc, double background[4], lucent_
                         &R_ALPHA, &background[3], err);
 }
 
+/* Side images may be coarser than the front one, never finer: they share its layered image. */
+static lucent_status parse_side_projection(json_t *doc, lucent_scene *s, lucent_error *err)
+{
+    range r = {LUCENT_MIN_PROJECTION_SIZE, s->projection_size, 0, "it may not exceed projection_size"};
+    return get_int(doc, "", "side_projection_size", &r, &s->side_projection_size, err);
+}
+
 static lucent_status parse_output(json_t *doc, lucent_scene *s, lucent_error *err)
 {
-    int method = s->method, format = s->format;
+    int method = s->method, format = s->format, sampling = s->sampling;
     lucent_status st = get_int(doc, "", "width", &R_SIDE, &s->width, err);
     if (st == LUCENT_OK)
         st = get_int(doc, "", "height", &R_SIDE, &s->height, err);
@@ -616,7 +626,11 @@ static lucent_status parse_output(json_t *doc, lucent_scene *s, lucent_error *er
     if (st == LUCENT_OK)
         st = get_int(doc, "", "samples", &R_SAMPLES, &s->samples, err);
     if (st == LUCENT_OK)
+        st = get_enum(doc, "", "sampling", sampling_names, &sampling, err);
+    if (st == LUCENT_OK)
         st = get_int(doc, "", "projection_size", &R_PROJECTION, &s->projection_size, err);
+    if (st == LUCENT_OK)
+        st = parse_side_projection(doc, s, err);
     if (st == LUCENT_OK)
         st = parse_background(doc, s->background, err);
     if (st == LUCENT_OK)
@@ -624,6 +638,7 @@ static lucent_status parse_output(json_t *doc, lucent_scene *s, lucent_error *er
     if (st == LUCENT_OK)
         st = get_enum(doc, "", "format", format_names, &format, err);
     s->method = (lucent_method)method;
+    s->sampling = (lucent_sampling)sampling;
     s->format = (lucent_format)format;
     return st;
 }

@@ -28,7 +28,8 @@ lucent_status vk_context_create(struct vk_context *ctx, const char *device_name,
                                        .commandPool = ctx->command_pool,
                                        .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY, .commandBufferCount = 1};
     VK_TRY(vkAllocateCommandBuffers(ctx->device, &cai, &ctx->cmd), err);
-    VkFenceCreateInfo fci = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    /* Signaled until the first submission, so waiting on it never blocks on work never sent. */
+    VkFenceCreateInfo fci = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO, .flags = VK_FENCE_CREATE_SIGNALED_BIT};
     VK_TRY(vkCreateFence(ctx->device, &fci, NULL, &ctx->fence), err);
     return LUCENT_OK;
 fail:

@@ -8,21 +8,22 @@
 layout(std140, set = 0, binding = 0) uniform Frame {
     mat4 view_clip[MAX_VIEWS];     // world -> clip of projection image k (orthographic)
     vec4 view_origin[MAX_VIEWS];   // world position of texel corner (0,0) on the depth-0 plane
-    vec4 view_du[MAX_VIEWS];       // world step of one texel along x
-    vec4 view_dv[MAX_VIEWS];       // world step of one texel along y
+    vec4 view_du[MAX_VIEWS];       // xyz: world step of one texel along x; w: image side (texels)
+    vec4 view_dv[MAX_VIEWS];       // xyz: world step of one texel along y; w: texel size (scene units)
     vec4 view_dir[MAX_VIEWS];      // direction view k looks along; depth = dot(p - origin, dir)
     vec4 light_vec[MAX_LIGHTS];    // xyz: travel direction or position; w: 0 directional, 1 point
     vec4 light_rgb[MAX_LIGHTS];    // rgb: colour * intensity; w: shadow map layer
     mat4 light_clip[MAX_LIGHTS];   // world -> shadow map clip
     vec4 light_depth[MAX_LIGHTS];  // x near, y far, z 1 = perspective, w bias (scene units)
-    vec4 params;                   // x eta, y unused, z samples per channel, w view count
-    vec4 proj;                     // x texel size (scene units), y projection size, z mm per unit, w depth tolerance
+    vec4 params;                   // x eta, y mm per scene unit, z depth tolerance (scene units)
     vec4 camera_eye;               // xyz camera position
     vec4 sigma_tr;                 // mm^-1 per channel
     vec4 z_r;                      // mm
     vec4 z_v;                      // mm
     vec4 alpha_prime;
-    vec4 samples[3 * MAX_SAMPLES]; // channel c, sample j: x radius (mm), y weight r_trunc / R_d(x), zw unit direction
+    // Per channel (c * MAX_SAMPLES + j), or shared (first n): x radius (mm), y weight (1 / (n pdf)),
+    // zw unit direction on the projection plane.
+    vec4 samples[3 * MAX_SAMPLES];
 } frame;
 
 // Unpolarized Fresnel transmittance entering a medium of relative index eta >= 1.

@@ -6,6 +6,7 @@
 #extension GL_EXT_control_flow_attributes : require
 #include "frame.glsl"
 layout(set = 0, binding = 1) uniform sampler2DArrayShadow shadow_maps;
+layout(push_constant) uniform Push { int view_base; } push;
 layout(location = 0) in vec3 v_position;
 layout(location = 1) in vec3 v_normal;
 layout(location = 0) out vec4 out_flux_depth;
@@ -57,8 +58,9 @@ void main()
             light *= shadow_visibility(l, v_position);
         entering += light;
     }
-    vec3 dir = frame.view_dir[gl_ViewIndex].xyz;
+    int view = gl_ViewIndex + push.view_base;
+    vec3 dir = frame.view_dir[view].xyz;
     float area = 1.0 / max(dot(n, -dir), MIN_AREA_COS);
-    float depth = dot(v_position - frame.view_origin[gl_ViewIndex].xyz, dir);
+    float depth = dot(v_position - frame.view_origin[view].xyz, dir);
     out_flux_depth = vec4(entering * area, depth);
 }

@@ -12,6 +12,12 @@ layout(std430, set = 0, binding = 5) writeonly buffer OutNormalView { vec4 out_n
 layout(std430, set = 0, binding = 6) writeonly buffer OutDepth { float out_depth[]; };
 layout(push_constant) uniform Push { ivec2 size; } push;
 
+// Specialized per request (pipelines.c): constant loop bounds unroll, and CPU drivers pay for
+// untaken branches, so the sampling scheme is chosen at pipeline creation.
+layout(constant_id = 0) const int SAMPLES = 16;          // per channel
+layout(constant_id = 1) const int VIEW_COUNT = 5;
+layout(constant_id = 2) const bool SHARED_SAMPLES = true;
+
 vec2 texel_coord(int k, vec3 p)
 {
     vec3 rel = p - frame.view_origin[k].xyz;
@@ -19,9 +25,9 @@ vec2 texel_coord(int k, vec3 p)
     return vec2(dot(rel, du) / dot(du, du), dot(rel, dv) / dot(dv, dv));
 }
 
-bool inside(ivec2 t)
+bool inside(int k, ivec2 t)
 {
-    int side = int(frame.proj.y);
+    int side = int(frame.view_du[k].w);
     return t.x >= 0 && t.y >= 0 && t.x < side && t.y < side;
 }
 
@@ -30,14 +36,14 @@ bool inside(ivec2 t)
 bool visible_in(int k, vec3 p, vec3 n)
 {
     ivec2 t = ivec2(floor(texel_coord(k, p)));
-    if (!inside(t))
+    if (!inside(k, t))
         return false;
     float stored = texelFetch(projection_images, ivec3(t, k), 0).a;
     if (stored < 0.0)
         return false;
     float depth = dot(p - frame.view_origin[k].xyz, frame.view_dir[k].xyz);
     float facing = max(dot(n, -frame.view_dir[k].xyz), 0.1);
-    float tolerance = frame.proj.x * (1.5 + 1.0 / facing) + frame.proj.w;
+    float tolerance = frame.view_dv[k].w * (1.5 + 1.0 / facing) + frame.params.z;
     return abs(stored - depth) <= tolerance;
 }
 
@@ -45,12 +51,11 @@ bool visible_in(int k, vec3 p, vec3 n)
 // Falls back to the front view (0), as the paper does, when no facing view sees the point.
 int choose_view(vec3 p, vec3 n)
 {
-    int count = int(frame.params.w);
     uint tried = 0u;
-    for (int attempt = 0; attempt < count; attempt++) {
+    for (int attempt = 0; attempt < VIEW_COUNT; attempt++) {
         int best = -1;
         float best_score = 0.0;
-        for (int k = 0; k < count; k++) {
+        for (int k = 0; k < VIEW_COUNT; k++) {
             float score = dot(n, -frame.view_dir[k].xyz);
             if ((tried & (1u << k)) == 0u && score > best_score) {
                 best = k;
@@ -84,33 +89,41 @@ float pixel_rotation(ivec2 px)
     return float(h & 0xffffu) / 65536.0 * 2.0 * PI;
 }
 
+vec3 dipole_rd3(float r)
+{
+    return vec3(dipole_rd(0, r), dipole_rd(1, r), dipole_rd(2, r));
+}
+
+// Sums texel flux x R_d x weight over the sample pattern around p in projection image k. The
+// lateral distance is the exact sample offset (not the texel centre's), so kernels narrower than
+// a texel still integrate to the right energy on flat regions; the depth difference adds the
+// third dimension.
 vec3 scattered_light(int k, vec3 p, ivec2 px)
 {
     vec2 center = texel_coord(k, p);
-    int n = int(frame.params.z);
-    float mm_per_texel = frame.proj.z * frame.proj.x;
+    float mm_per_texel = frame.params.y * frame.view_dv[k].w;
     float rotation = pixel_rotation(px);
     mat2 rotate = mat2(cos(rotation), sin(rotation), -sin(rotation), cos(rotation));
     float depth = dot(p - frame.view_origin[k].xyz, frame.view_dir[k].xyz);
     vec3 sum = vec3(0.0);
-    for (int c = 0; c < 3; c++) {
-        for (int j = 0; j < n; j++) {
+    for (int c = 0; c < (SHARED_SAMPLES ? 1 : 3); c++) {
+        for (int j = 0; j < SAMPLES; j++) {
             vec4 s = frame.samples[c * MAX_SAMPLES + j];
-            vec2 offset = (rotate * s.zw) * (s.x / mm_per_texel);
-            ivec2 t = ivec2(floor(center + offset));
-            if (!inside(t))
+            ivec2 t = ivec2(floor(center + (rotate * s.zw) * (s.x / mm_per_texel)));
+            if (!inside(k, t))
                 continue;
             vec4 texel = texelFetch(projection_images, ivec3(t, k), 0);
             if (texel.a < 0.0)
                 continue;
-            // Lateral distance is the exact sample offset (not the texel centre's), so kernels
-            // narrower than a texel still integrate to the right energy on flat regions.
-            float dz = (texel.a - depth) * frame.proj.z;
+            float dz = (texel.a - depth) * frame.params.y;
             float r = sqrt(s.x * s.x + dz * dz);
-            sum[c] += texel[c] * dipole_rd(c, r) * s.y;
+            if (SHARED_SAMPLES)
+                sum += texel.rgb * dipole_rd3(r) * s.y;
+            else
+                sum[c] += texel[c] * dipole_rd(c, r) * s.y;
         }
     }
-    return sum / float(n);
+    return sum;
 }
 
 void main()

@@ -137,8 +137,38 @@ static void extremes(void)
     check_close("weight x R_d(r_j) = integral for every sample", 1.0 + spread, 1.0, 1e-9);
 }
 
+/* The shared (mixture) table integrates every channel of every preset: sum_j R_d,c(r_j) w_j. */
+static void mixture_quadrature(void)
+{
+    double radii[64], weights[64], one[64], w1[64];
+    const int counts[] = {4, 16, 64};
+    for (int i = 0; lucent_material_preset_name(i); i++) {
+        lucent_material m;
+        lucent_material_preset(lucent_material_preset_name(i), &m);
+        struct dipole d[3];
+        for (int c = 0; c < 3; c++)
+            dipole_init(&d[c], m.sigma_a[c], m.sigma_s_prime[c], m.eta);
+        for (int k = 0; k < 3; k++) {
+            int n = counts[k];
+            dipole_mixture_radii(d, 50.0, n, radii, weights);
+            double worst = 0.0;
+            for (int c = 0; c < 3; c++) {
+                double want = dipole_sample_radii(&d[c], 50.0, 1, one, w1), got = 0.0;
+                for (int j = 0; j < n; j++)
+                    got += dipole_rd(&d[c], radii[j]) * weights[j];
+                worst = fmax(worst, fabs(got / want - 1.0));
+            }
+            double tol = n == 4 ? 0.1 : n == 16 ? 0.02 : 0.005;
+            char what[96];
+            snprintf(what, sizeof what, "mixture table, %s, %d samples: worst channel", lucent_material_preset_name(i), n);
+            check_close(what, 1.0 + worst, 1.0, tol);
+        }
+    }
+}
+
 int main(void)
 {
+    mixture_quadrature();
     boundary_terms();
     skin1_profile();
     preset_reflectance();
