@@ -58,6 +58,7 @@ static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh
     view_frame_clip(&cam, clip);
     m4_to_float(clip, plan->camera_clip);
     v3_copy_f4(eye, 0.0, plan->camera_eye);
+    plan->camera_outside = v3_length(eye) > radius;
     v3_copy_f4(eye, 0.0, plan->uniforms.camera_eye);
 
     /* The projection images: front plus the four sides, in the camera's own frame. */

@@ -16,6 +16,7 @@ struct frame_plan {
     int shadow_count;                       /* shadow maps to draw */
     uint32_t shadow_mask;                   /* bit l: light l reads shadow map */
     int light_count;
+    int camera_outside;                     /* eye outside the bounding sphere */
     float shadow_clip[LUCENT_MAX_LIGHTS][16];
     double scale_mm;                        /* resolved millimetres per scene unit */
     const char *shadow_reason[LUCENT_MAX_LIGHTS];  /* why light l has or has no shadow map */

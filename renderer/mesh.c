@@ -216,9 +216,10 @@ lucent_status mesh_finish(struct lucent_mesh *m, lucent_error *err)
                            "no usable triangle: all %u have a repeated vertex or zero area",
                            submitted);
 
-    if ((st = drop_unused_vertices(m, err)) != LUCENT_OK || (st = recentre(m, err)) != LUCENT_OK)
+    if ((st = drop_unused_vertices(m, err)) != LUCENT_OK || (st = recentre(m, err)) != LUCENT_OK ||
+        (st = mesh_fill_normals(m, err)) != LUCENT_OK)
         return st;
-    return mesh_fill_normals(m, err);
+    return m->closed ? LUCENT_OK : mesh_orient_closed(m, err);
 }
 
 /* ---- normals (declared in mesh_normals.h, shared with the proxy simplifier) ---- */

@@ -14,6 +14,8 @@ struct lucent_mesh {
     double center[3];         /* bounding-sphere centre in the source's own coordinates */
     double radius;            /* bounding-sphere radius, scene units, > 0 */
     int convex;               /* 1 only when known convex: no self-shadowing possible */
+    int closed;               /* 1 when closed and wound outward: back faces are always hidden
+                               * (generators that guarantee it set it before mesh_finish) */
 };
 
 /* Completes a mesh whose positions/indices (absolute coordinates, malloc'd) are filled in:
@@ -22,6 +24,10 @@ struct lucent_mesh {
  * normals when normals == NULL, and sets center/radius. Fails with LUCENT_E_MESH when no
  * usable triangle is left. On failure the mesh is left for the caller to free. */
 lucent_status mesh_finish(struct lucent_mesh *m, lucent_error *err);
+
+/* Sets m->closed and, for a closed mesh wound inside out, reverses its triangles and normals.
+ * Called by mesh_finish; fails only with LUCENT_E_NOMEM. */
+lucent_status mesh_orient_closed(struct lucent_mesh *m, lucent_error *err);
 
 /* Allocates an empty mesh with room for the given counts (normals allocated too when with_normals). */
 struct lucent_mesh *mesh_alloc(uint32_t vertex_count, uint32_t triangle_count, int with_normals);

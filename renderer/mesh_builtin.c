@@ -286,6 +286,7 @@ static lucent_status build_lattice_shape(uint32_t triangles, radial_shape shape,
     fill_lattice_vertices(m, &l, shape);
     fill_lattice_triangles(m, &l);
     m->convex = convex;
+    m->closed = 1;   /* by construction, wound outward; spares mesh_finish the edge sort */
     return finish_or_free(m, out, err);
 }
 
@@ -333,6 +334,7 @@ static lucent_status build_torus(uint32_t triangles, lucent_mesh **out, lucent_e
         }
     }
     m->convex = 0;
+    m->closed = 1;
     return finish_or_free(m, out, err);
 }
 

@@ -62,6 +62,7 @@ static struct lucent_mesh *proxy_from_indices(const struct lucent_mesh *src, con
     memcpy(proxy->center, src->center, sizeof proxy->center);
     proxy->radius = src->radius;
     proxy->convex = src->convex;
+    proxy->closed = src->closed;
     if (mesh_fill_normals(proxy, NULL) != LUCENT_OK)
         goto fail;
     free(remap);

@@ -88,6 +88,7 @@ struct raster_desc {
     const VkSpecializationInfo *frag_constants;
     uint32_t colors;
     int with_normals;                /* second vertex binding */
+    int cull;                        /* cull back faces: only for closed, outward-wound meshes */
 };
 
 static lucent_status make_raster_pipeline(struct vk_context *ctx, const struct raster_desc *d,
@@ -118,12 +119,12 @@ static lucent_status make_raster_pipeline(struct vk_context *ctx, const struct r
         .topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST};
     VkPipelineViewportStateCreateInfo vp = {.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO,
                                             .viewportCount = 1, .scissorCount = 1};
-    /* No culling: open meshes and flipped windings must still draw; the shaders face-forward
+    /* Without culling, open meshes and flipped windings still draw and the shaders face-forward
      * normals with gl_FrontFacing. Vulkan's area sign already accounts for its y-down framebuffer,
      * so counter-clockwise-from-outside meshes stay front-facing with our y-down clip space. */
     VkPipelineRasterizationStateCreateInfo rs = {
         .sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO,
-        .polygonMode = VK_POLYGON_MODE_FILL, .cullMode = VK_CULL_MODE_NONE,
+        .polygonMode = VK_POLYGON_MODE_FILL, .cullMode = d->cull ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE,
         .frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE, .lineWidth = 1.0f};
     VkPipelineMultisampleStateCreateInfo ms = {.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO,
                                                .rasterizationSamples = VK_SAMPLE_COUNT_1_BIT};
@@ -246,12 +247,15 @@ lucent_status pipelines_create(struct vk_context *ctx, struct pipelines *p, luce
         (st = make_sampler(ctx, 1, &p->shadow_compare, err)))
         goto fail;
 
-    struct raster_desc shadow = {p->shadow_pass, p->shadow_layout, SHADER(shadow_vert), {NULL, 0}, NULL, 0, 0};
-    struct raster_desc gbuffer = {p->gbuffer_pass, p->gbuffer_layout, SHADER(gbuffer_vert),
-                                  SHADER(gbuffer_frag), NULL, 2, 1};
-    if ((st = make_raster_pipeline(ctx, &shadow, &p->shadow, err)) ||
-        (st = make_raster_pipeline(ctx, &gbuffer, &p->gbuffer, err)))
-        goto fail;
+    for (int cull = 0; cull < 2; cull++) {
+        struct raster_desc shadow = {p->shadow_pass, p->shadow_layout, SHADER(shadow_vert), {NULL, 0}, NULL, 0, 0,
+                                     cull};
+        struct raster_desc gbuffer = {p->gbuffer_pass, p->gbuffer_layout, SHADER(gbuffer_vert),
+                                      SHADER(gbuffer_frag), NULL, 2, 1, cull};
+        if ((st = make_raster_pipeline(ctx, &shadow, &p->shadow[cull], err)) ||
+            (st = make_raster_pipeline(ctx, &gbuffer, &p->gbuffer[cull], err)))
+            goto fail;
+    }
     return LUCENT_OK;
 fail:
     pipelines_destroy(ctx, p);
@@ -259,18 +263,19 @@ fail:
 }
 
 lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, int which, int lights,
-                                   uint32_t shadow_mask, VkPipeline *out, lucent_error *err)
+                                   uint32_t shadow_mask, int cull, VkPipeline *out, lucent_error *err)
 {
     if (lights < 1 || lights > LUCENT_MAX_LIGHTS || shadow_mask >> lights)
         return lucent_fail(err, LUCENT_E_INTERNAL, "", "no projection pipeline for %d lights, mask 0x%x", lights,
                            (unsigned)shadow_mask);
-    size_t slot = ((size_t)which * LUCENT_MAX_LIGHTS + (size_t)(lights - 1)) << LUCENT_MAX_LIGHTS | shadow_mask;
+    size_t slot = (((size_t)cull * 2 + (size_t)which) * LUCENT_MAX_LIGHTS + (size_t)(lights - 1)) << LUCENT_MAX_LIGHTS |
+                  shadow_mask;
     if (!p->projection[slot]) {
         int32_t values[2] = {lights, (int32_t)shadow_mask};
         VkSpecializationMapEntry entries[2] = {{0, 0, 4}, {1, 4, 4}};
         VkSpecializationInfo spec = {2, entries, sizeof values, values};
         struct raster_desc proj = {p->projection_pass[which], p->projection_layout, SHADER(projection_vert),
-                                   SHADER(projection_frag), &spec, 1, 1};
+                                   SHADER(projection_frag), &spec, 1, 1, cull};
         lucent_status st = make_raster_pipeline(ctx, &proj, &p->projection[slot], err);
         if (st != LUCENT_OK)
             return st;
@@ -301,8 +306,10 @@ lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, int
 void pipelines_destroy(struct vk_context *ctx, struct pipelines *p)
 {
     VkDevice d = ctx->device;
-    vkDestroyPipeline(d, p->shadow, NULL);
-    vkDestroyPipeline(d, p->gbuffer, NULL);
+    for (int cull = 0; cull < 2; cull++) {
+        vkDestroyPipeline(d, p->shadow[cull], NULL);
+        vkDestroyPipeline(d, p->gbuffer[cull], NULL);
+    }
     for (size_t i = 0; i < PROJECTION_VARIANTS; i++)
         vkDestroyPipeline(d, p->projection[i], NULL);
     for (size_t i = 0; i < SCATTER_VARIANTS; i++)

@@ -17,7 +17,7 @@ enum { PROJECTION_FRONT = 0, PROJECTION_SIDES = 1 };
 
 /* Projection pipelines are specialized by view count, light count and which lights are shadowed:
  * CPU drivers pay for every branch, taken or not. Built on first use, kept for the renderer's life. */
-#define PROJECTION_VARIANTS (2 * LUCENT_MAX_LIGHTS * (1 << LUCENT_MAX_LIGHTS))
+#define PROJECTION_VARIANTS (2 * 2 * LUCENT_MAX_LIGHTS * (1 << LUCENT_MAX_LIGHTS))
 /* Scatter pipelines likewise, by sample count, view count and sampling scheme. */
 #define SCATTER_VARIANTS (LUCENT_MAX_SAMPLES * 2 * 2)
 
@@ -28,7 +28,7 @@ struct pipelines {
     VkDescriptorSetLayout projection_set_layout;
     VkDescriptorSetLayout scatter_set_layout;
     VkPipelineLayout shadow_layout, projection_layout, gbuffer_layout, scatter_layout;
-    VkPipeline shadow, gbuffer;
+    VkPipeline shadow[2], gbuffer[2];   /* index: cull back faces (closed meshes) */
     VkPipeline projection[PROJECTION_VARIANTS];
     VkPipeline scatter[SCATTER_VARIANTS];
     VkSampler nearest;
@@ -41,10 +41,10 @@ struct gbuffer_push {
 };
 
 lucent_status pipelines_create(struct vk_context *ctx, struct pipelines *p, lucent_error *err);
-/* The projection pipeline for `which` (PROJECTION_FRONT/SIDES), 1..LUCENT_MAX_LIGHTS lights and a
- * shadow mask (bit l: light l is shadowed), created on first use. */
+/* The projection pipeline for `which` (PROJECTION_FRONT/SIDES), 1..LUCENT_MAX_LIGHTS lights, a
+ * shadow mask (bit l: light l is shadowed) and back-face culling, created on first use. */
 lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, int which, int lights,
-                                   uint32_t shadow_mask, VkPipeline *out, lucent_error *err);
+                                   uint32_t shadow_mask, int cull, VkPipeline *out, lucent_error *err);
 /* The scatter pipeline for 1..LUCENT_MAX_SAMPLES samples, 1 or 5 views, shared or per-channel
  * sampling, created on first use. */
 lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, int samples, int views,

@@ -141,13 +141,14 @@ static void stamp(lucent_renderer *r, uint32_t query)
         vkCmdWriteTimestamp(r->ctx.cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, r->queries, query);
 }
 
-static void record_shadows(lucent_renderer *r, const struct frame_plan *plan, const struct gpu_geometry *g)
+static void record_shadows(lucent_renderer *r, const struct frame_plan *plan, const struct gpu_geometry *g,
+                           int cull)
 {
     VkCommandBuffer cmd = r->ctx.cmd;
     VkClearValue clear = {.depthStencil = {1.0f, 0}};
     for (int s = 0; s < plan->shadow_count; s++) {
         begin_pass(cmd, r->pipes.shadow_pass, r->targets.shadow_fb[s], SHADOW_MAP_SIZE, SHADOW_MAP_SIZE, &clear, 1);
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->pipes.shadow);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->pipes.shadow[cull]);
         vkCmdPushConstants(cmd, r->pipes.shadow_layout, VK_SHADER_STAGE_VERTEX_BIT, 0, 64, plan->shadow_clip[s]);
         draw(cmd, g, 0);
         vkCmdEndRenderPass(cmd);
@@ -202,12 +203,13 @@ static void copy_sides(lucent_renderer *r)
                          NULL, 1, &b);
 }
 
-static void record_gbuffer(lucent_renderer *r, const struct frame_plan *plan, const struct gpu_geometry *g)
+static void record_gbuffer(lucent_renderer *r, const struct frame_plan *plan, const struct gpu_geometry *g,
+                           int cull)
 {
     VkCommandBuffer cmd = r->ctx.cmd;
     VkClearValue clears[3] = {{.color = {{0}}}, {.color = {{0}}}, {.depthStencil = {1.0f, 0}}};
     begin_pass(cmd, r->pipes.gbuffer_pass, r->targets.gbuffer_fb, r->targets.width, r->targets.height, clears, 3);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->pipes.gbuffer);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->pipes.gbuffer[cull]);
     struct gbuffer_push push;
     memcpy(push.clip_from_world, plan->camera_clip, sizeof push.clip_from_world);
     memcpy(push.eye, plan->camera_eye, sizeof push.eye);
@@ -240,11 +242,14 @@ static lucent_status record_frame(lucent_renderer *r, const lucent_scene *s, con
     const struct gpu_geometry *projected = gm->proxy.index_count ? &gm->proxy : &gm->full;
     VkPipeline front, sides = VK_NULL_HANDLE, scatter;
     int five = plan->view_count > 1;
-    st = pipelines_projection(&r->ctx, &r->pipes, PROJECTION_FRONT, plan->light_count, plan->shadow_mask, &front,
-                              err);
+    /* Projection and shadow views look from outside the bounding sphere: on a closed mesh their
+     * back faces are always hidden. The camera may be inside. */
+    int cull = gm->mesh->closed, cull_camera = cull && plan->camera_outside;
+    st = pipelines_projection(&r->ctx, &r->pipes, PROJECTION_FRONT, plan->light_count, plan->shadow_mask, cull,
+                              &front, err);
     if (st == LUCENT_OK && five)
-        st = pipelines_projection(&r->ctx, &r->pipes, PROJECTION_SIDES, plan->light_count, plan->shadow_mask, &sides,
-                                  err);
+        st = pipelines_projection(&r->ctx, &r->pipes, PROJECTION_SIDES, plan->light_count, plan->shadow_mask, cull,
+                                  &sides, err);
     if (st == LUCENT_OK)
         st = pipelines_scatter(&r->ctx, &r->pipes, s->samples, plan->view_count, s->sampling, &scatter, err);
     if (st != LUCENT_OK)
@@ -255,7 +260,7 @@ static lucent_status record_frame(lucent_renderer *r, const lucent_scene *s, con
     if (r->queries)
         vkCmdResetQueryPool(cmd, r->queries, 0, TS_COUNT);
     stamp(r, TS_START);
-    record_shadows(r, plan, projected);
+    record_shadows(r, plan, projected, cull);
     stamp(r, TS_SHADOW);
     record_projection_pass(r, PROJECTION_FRONT, projected, front);
     if (five) {
@@ -263,7 +268,7 @@ static lucent_status record_frame(lucent_renderer *r, const lucent_scene *s, con
         copy_sides(r);
     }
     stamp(r, TS_PROJECTION);
-    record_gbuffer(r, plan, &gm->full);
+    record_gbuffer(r, plan, &gm->full, cull_camera);
     stamp(r, TS_GBUFFER);
     record_scatter(r, scatter);
     stamp(r, TS_SCATTER);
