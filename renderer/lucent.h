@@ -180,7 +180,7 @@ typedef struct lucent_stats {
     uint32_t triangles, proxy_triangles;
     int shadow_maps, views;
     char device[256];
-    char modelled[768];
+    char modelled[2048];
 } lucent_stats;
 
 /* Renderers of one process share a Vulkan device per requested device name; it stays warm after

@@ -132,7 +132,7 @@ int main(int argc, char **argv)
         goto done;
     }
     if (o.stats) {
-        char buf[2048];
+        char buf[4096];
         if (lucent_stats_json(&stats, buf, sizeof buf) > 0)
             puts(buf);
     }

@@ -52,6 +52,10 @@ check "--stats prints pass times and what was modelled" \
     bash -c "'$bin' '$dir/s.json' -o '$dir/x.png' --stats > '$dir/stats.json' && cat '$dir/stats.json' && grep -q '\"scatter\"' '$dir/stats.json' && grep -q '\"modelled\"' '$dir/stats.json'"
 check "scene from standard input" bash -c "'$bin' - -o '$dir/stdin.png' < '$dir/s.json'"
 
+check "LUCENT_DEVICE picks the device by name" \
+    bash -c "LUCENT_DEVICE=llvmpipe '$bin' '$dir/s.json' -o '$dir/dev.png' --verbose 2>&1 | grep -q 'device \"llvmpipe'"
+check "LUCENT_DEVICE naming no device: exit 1" env LUCENT_DEVICE=no-such-gpu bash -c \
+    "$(declare -f expect_exit); bin='$bin' dir='$dir' expect_exit 1 'no-such-gpu' '$dir/s.json' -o '$dir/x.png'"
 check "no arguments: usage, exit 2" expect_exit 2 "usage" 
 check "unknown flag: exit 2" expect_exit 2 "unexpected argument" "$dir/s.json" -o "$dir/x.png" --frobnicate
 check "output extension must be png or exr: exit 2" expect_exit 2 ".png or .exr" "$dir/s.json" -o "$dir/x.jpg"

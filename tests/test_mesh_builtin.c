@@ -2,25 +2,12 @@
  * made from them: triangle counts, closed topology, outward unit normals, centring, limits, errors. */
 #include "lucent.h"
 #include "mesh.h"
+#include "test_support.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
-static int passed, failed;
-
-static int check(int ok, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    printf("%s ", ok ? "ok  " : "FAIL");
-    vprintf(fmt, ap);
-    printf("\n");
-    va_end(ap);
-    ok ? passed++ : failed++;
-    return ok;
-}
 
 static double length3(const double v[3])
 {
@@ -91,23 +78,23 @@ static void check_common(const char *what, const struct lucent_mesh *m, int is_p
     for (int k = 0; k < 3; k++)
         centre_offset = fmax(centre_offset, fabs(0.5 * (lo[k] + hi[k])));
 
-    check(bad_index == 0, "%s: all indices in range (%u bad)", what, bad_index);
-    check(bad_normal == 0, "%s: all normals finite and unit (%u bad, max |len-1| %.2e)", what,
+    test_check(bad_index == 0, "%s: all indices in range (%u bad)", what, bad_index);
+    test_check(bad_normal == 0, "%s: all normals finite and unit (%u bad, max |len-1| %.2e)", what,
           bad_normal, max_unit_error);
-    check(m->radius > 0 && isfinite(m->radius), "%s: radius %.6f > 0", what, m->radius);
+    test_check(m->radius > 0 && isfinite(m->radius), "%s: radius %.6f > 0", what, m->radius);
     if (is_proxy) {
-        check(inward_area <= 1e-3 * area,
+        test_check(inward_area <= 1e-3 * area,
               "%s: triangles wind counter-clockwise from outside (%u slivers do not, %.1e of the area)",
               what, inward, inward_area / area);
-        check(max_dist <= m->radius, "%s: farthest vertex %.7f within the source radius %.7f", what,
+        test_check(max_dist <= m->radius, "%s: farthest vertex %.7f within the source radius %.7f", what,
               max_dist, m->radius);
         return;
     }
-    check(inward == 0, "%s: every triangle winds counter-clockwise from outside (%u do not)", what,
+    test_check(inward == 0, "%s: every triangle winds counter-clockwise from outside (%u do not)", what,
           inward);
-    check(centre_offset <= 1e-6 * m->radius, "%s: positions centred (box centre off by %.2e)", what,
+    test_check(centre_offset <= 1e-6 * m->radius, "%s: positions centred (box centre off by %.2e)", what,
           centre_offset);
-    check(fabs(max_dist - m->radius) <= 1e-6 * m->radius,
+    test_check(fabs(max_dist - m->radius) <= 1e-6 * m->radius,
           "%s: farthest vertex %.7f matches radius %.7f", what, max_dist, m->radius);
 }
 
@@ -126,11 +113,11 @@ static double max_radial_normal_error(const struct lucent_mesh *m)
 static void check_sphere(const char *what, const struct lucent_mesh *m)
 {
     double err = max_radial_normal_error(m);
-    check(err < 1e-4, "%s: normals radial, max angle error %.2e rad", what, err);
-    check(fabs(m->radius - 1) < 1e-6, "%s: radius %.8f is 1", what, m->radius);
-    check(m->vertex_count == 2 + m->triangle_count / 2,
+    test_check(err < 1e-4, "%s: normals radial, max angle error %.2e rad", what, err);
+    test_check(fabs(m->radius - 1) < 1e-6, "%s: radius %.8f is 1", what, m->radius);
+    test_check(m->vertex_count == 2 + m->triangle_count / 2,
           "%s: closed, one shared vertex per lattice point (V %u = 2 + T/2)", what, m->vertex_count);
-    check(m->convex == 1, "%s: marked convex", what);
+    test_check(m->convex == 1, "%s: marked convex", what);
 }
 
 static void check_torus(const char *what, const struct lucent_mesh *m)
@@ -147,11 +134,11 @@ static void check_torus(const char *what, const struct lucent_mesh *m)
         double from_core[3] = {p[0] - p[0] / ring, p[1] - p[1] / ring, p[2]};
         worst = fmax(worst, angle_between(from_core, n));
     }
-    check(worst < 1e-4, "%s: normals match the analytic torus, max angle error %.2e rad", what, worst);
-    check(fabs(m->radius - 1.4) < 1e-5, "%s: radius %.6f is major + minor = 1.4", what, m->radius);
-    check(m->vertex_count == m->triangle_count / 2, "%s: closed genus-1 (V %u = T/2)", what,
+    test_check(worst < 1e-4, "%s: normals match the analytic torus, max angle error %.2e rad", what, worst);
+    test_check(fabs(m->radius - 1.4) < 1e-5, "%s: radius %.6f is major + minor = 1.4", what, m->radius);
+    test_check(m->vertex_count == m->triangle_count / 2, "%s: closed genus-1 (V %u = T/2)", what,
           m->vertex_count);
-    check(m->convex == 0, "%s: not marked convex", what);
+    test_check(m->convex == 0, "%s: not marked convex", what);
 }
 
 static void check_protrusion(const char *what, const struct lucent_mesh *m)
@@ -165,9 +152,9 @@ static void check_protrusion(const char *what, const struct lucent_mesh *m)
     to_double(m->normals + 3 * (size_t)tip, n);
     for (int k = 0; k < 3; k++)
         p[k] += m->center[k];
-    check(fabs(p[0]) < 1e-6 && fabs(p[1]) < 1e-6 && fabs(p[2] - 1.55) < 1e-5,
+    test_check(fabs(p[0]) < 1e-6 && fabs(p[1]) < 1e-6 && fabs(p[2] - 1.55) < 1e-5,
           "%s: +Z extreme is the nose tip on the axis at (%.2e, %.2e, %.6f)", what, p[0], p[1], p[2]);
-    check(angle_between(n, z_axis) < 1e-4, "%s: tip normal faces +Z (off by %.2e rad)", what,
+    test_check(angle_between(n, z_axis) < 1e-4, "%s: tip normal faces +Z (off by %.2e rad)", what,
           angle_between(n, z_axis));
 
     /* the failure case needs nose flanks that turn well away from the camera (+Z) */
@@ -180,10 +167,10 @@ static void check_protrusion(const char *what, const struct lucent_mesh *m)
         if (angle_between(q, z_axis) < 0.5)
             steepest = fmax(steepest, angle_between(qn, z_axis));
     }
-    check(steepest > 0.9, "%s: nose flanks turn %.1f degrees away from +Z", what,
+    test_check(steepest > 0.9, "%s: nose flanks turn %.1f degrees away from +Z", what,
           steepest * 180 / 3.14159265358979);
     double err = max_radial_normal_error(m);
-    check(m->convex == 0, "%s: not marked convex (normals deviate from radial by up to %.1f deg)",
+    test_check(m->convex == 0, "%s: not marked convex (normals deviate from radial by up to %.1f deg)",
           what, err * 180 / 3.14159265358979);
 }
 
@@ -195,10 +182,10 @@ static void check_builtin(const char *name, uint32_t request)
     lucent_mesh *mesh = NULL;
     lucent_error err = {0};
     lucent_status st = lucent_mesh_builtin(name, request, &mesh, &err);
-    if (!check(st == LUCENT_OK, "%s: builds (%s %s)", what, lucent_status_name(st), err.message))
+    if (!test_check(st == LUCENT_OK, "%s: builds (%s %s)", what, lucent_status_name(st), err.message))
         return;
     double off = fabs((double)mesh->triangle_count - expected) / expected;
-    check(off <= 0.02, "%s: %u triangles, %u vertices, %.3f%% from %u", what, mesh->triangle_count,
+    test_check(off <= 0.02, "%s: %u triangles, %u vertices, %.3f%% from %u", what, mesh->triangle_count,
           mesh->vertex_count, 100 * off, expected);
     check_common(what, mesh, 0);
     if (strcmp(name, "sphere") == 0)
@@ -240,7 +227,7 @@ static void check_count_sweep(void)
             worst = fmax(worst, off);
             misses += !(off <= 0.02);
         }
-        check(misses == 0, "%s: %u requests from 1000 to 60000 and the paper's counts, worst %.3f%% off",
+        test_check(misses == 0, "%s: %u requests from 1000 to 60000 and the paper's counts, worst %.3f%% off",
               names[s], tried, 100 * worst);
     }
 }
@@ -250,28 +237,28 @@ static void check_errors(void)
     lucent_mesh *mesh = NULL;
     lucent_error err = {0};
     lucent_status st = lucent_mesh_builtin("cube", 0, &mesh, &err);
-    check(st == LUCENT_E_INVALID && strcmp(err.field, "mesh.builtin") == 0 && !mesh &&
+    test_check(st == LUCENT_E_INVALID && strcmp(err.field, "mesh.builtin") == 0 && !mesh &&
               strstr(err.message, "sphere") && strstr(err.message, "protrusion"),
           "unknown name: %s, field \"%s\", \"%s\"", lucent_status_name(st), err.field, err.message);
 
     memset(&err, 0, sizeof err);
     st = lucent_mesh_builtin(NULL, 0, &mesh, &err);
-    check(st == LUCENT_E_INVALID && strcmp(err.field, "mesh.builtin") == 0 && !mesh,
+    test_check(st == LUCENT_E_INVALID && strcmp(err.field, "mesh.builtin") == 0 && !mesh,
           "NULL name: %s, field \"%s\"", lucent_status_name(st), err.field);
 
     memset(&err, 0, sizeof err);
     st = lucent_mesh_builtin("sphere", LUCENT_MAX_BUILTIN_TRIANGLES + 1, &mesh, &err);
-    check(st == LUCENT_E_LIMIT && strcmp(err.field, "mesh.triangles") == 0 && !mesh,
+    test_check(st == LUCENT_E_LIMIT && strcmp(err.field, "mesh.triangles") == 0 && !mesh,
           "%u triangles: %s, field \"%s\", \"%s\"", LUCENT_MAX_BUILTIN_TRIANGLES + 1,
           lucent_status_name(st), err.field, err.message);
 
     memset(&err, 0, sizeof err);
     st = lucent_mesh_builtin("torus", 999, &mesh, &err);
-    check(st == LUCENT_E_LIMIT && strcmp(err.field, "mesh.triangles") == 0 && !mesh,
+    test_check(st == LUCENT_E_LIMIT && strcmp(err.field, "mesh.triangles") == 0 && !mesh,
           "999 triangles (below the 2%% guarantee): %s, \"%s\"", lucent_status_name(st), err.message);
 
     st = lucent_mesh_builtin("sphere", LUCENT_MAX_BUILTIN_TRIANGLES, &mesh, &err);
-    check(st == LUCENT_OK && mesh->triangle_count <= LUCENT_MAX_BUILTIN_TRIANGLES &&
+    test_check(st == LUCENT_OK && mesh->triangle_count <= LUCENT_MAX_BUILTIN_TRIANGLES &&
               mesh->triangle_count >= 0.98 * LUCENT_MAX_BUILTIN_TRIANGLES,
           "the maximum request builds %u triangles, not above the limit",
           lucent_mesh_triangle_count(mesh));
@@ -285,19 +272,19 @@ static void check_proxy(const char *name, uint32_t request, uint32_t target)
     snprintf(what, sizeof what, "proxy %s@%u -> %u", name, request, target);
     lucent_mesh *src = NULL;
     lucent_error err = {0};
-    if (!check(lucent_mesh_builtin(name, request, &src, &err) == LUCENT_OK, "%s: source builds",
+    if (!test_check(lucent_mesh_builtin(name, request, &src, &err) == LUCENT_OK, "%s: source builds",
                what))
         return;
     struct lucent_mesh *proxy = mesh_simplify(src, target);
-    if (!check(proxy != NULL, "%s: simplifies", what)) {
+    if (!test_check(proxy != NULL, "%s: simplifies", what)) {
         lucent_mesh_free(src);
         return;
     }
-    check(proxy->triangle_count <= 1.05 * target && proxy->triangle_count >= 0.5 * target,
+    test_check(proxy->triangle_count <= 1.05 * target && proxy->triangle_count >= 0.5 * target,
           "%s: %u triangles, %u vertices", what, proxy->triangle_count, proxy->vertex_count);
-    check(memcmp(proxy->center, src->center, sizeof src->center) == 0 && proxy->radius == src->radius,
+    test_check(memcmp(proxy->center, src->center, sizeof src->center) == 0 && proxy->radius == src->radius,
           "%s: same centre and radius as the source", what);
-    check(proxy->convex == src->convex, "%s: convexity copied", what);
+    test_check(proxy->convex == src->convex, "%s: convexity copied", what);
 
     /* every proxy vertex is one of the source's, found by exact position */
     uint32_t foreign = 0;
@@ -308,7 +295,7 @@ static void check_proxy(const char *name, uint32_t request, uint32_t target)
             found = memcmp(p, src->positions + 3 * (size_t)s, 3 * sizeof(float)) == 0;
         foreign += !found;
     }
-    check(foreign == 0, "%s: all vertices are source vertices (%u are not)", what, foreign);
+    test_check(foreign == 0, "%s: all vertices are source vertices (%u are not)", what, foreign);
     check_common(what, proxy, 1);
     lucent_mesh_free(proxy);
     lucent_mesh_free(src);
@@ -356,13 +343,13 @@ static struct lucent_mesh *make_tufts(void)
 static void check_sloppy_proxy(void)
 {
     struct lucent_mesh *tufts = make_tufts();
-    if (!check(tufts != NULL, "tufts: %u non-manifold triangles build", lucent_mesh_triangle_count(tufts)))
+    if (!test_check(tufts != NULL, "tufts: %u non-manifold triangles build", lucent_mesh_triangle_count(tufts)))
         return;
     struct lucent_mesh *proxy = mesh_simplify(tufts, 1500);
-    check(proxy && proxy->triangle_count <= 1.05 * 1500,
+    test_check(proxy && proxy->triangle_count <= 1.05 * 1500,
           "proxy tufts@%u -> 1500: %u triangles (sloppy fallback)", tufts->triangle_count,
           lucent_mesh_triangle_count(proxy));
-    check(proxy && memcmp(proxy->center, tufts->center, sizeof tufts->center) == 0 &&
+    test_check(proxy && memcmp(proxy->center, tufts->center, sizeof tufts->center) == 0 &&
               proxy->radius == tufts->radius,
           "proxy tufts: same centre and radius as the source");
     lucent_mesh_free(proxy);
@@ -382,6 +369,5 @@ int main(void)
     check_proxy("protrusion", 68000, 4096);
     check_proxy("torus", 20000, 2000);
     check_sloppy_proxy();
-    printf("%d passed, %d failed\n", passed, failed);
-    return failed ? 1 : 0;
+    return test_finish();
 }

@@ -6,10 +6,10 @@
 
 #include "lucent.h"
 #include "mesh.h"
+#include "test_support.h"
 
 #include <dirent.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,19 +17,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static int passed, failed;
-
-static int check(int ok, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    printf("%s ", ok ? "ok  " : "FAIL");
-    vprintf(fmt, ap);
-    printf("\n");
-    va_end(ap);
-    ok ? passed++ : failed++;
-    return ok;
-}
 
 /* Describes what is wrong with a mesh the importer returned, or NULL when it is sound. */
 static const char *mesh_problem(const struct lucent_mesh *m)
@@ -61,10 +48,10 @@ static void expect_file_loads(const char *root, const char *rel, uint32_t triang
     lucent_mesh *m = NULL;
     lucent_error err = {0};
     lucent_status st = lucent_mesh_import_file(path, &m, &err);
-    if (!check(st == LUCENT_OK, "%s: loads (%s %s)", rel, lucent_status_name(st), err.message))
+    if (!test_check(st == LUCENT_OK, "%s: loads (%s %s)", rel, lucent_status_name(st), err.message))
         return;
     const char *problem = mesh_problem(m);
-    check(!problem && m->triangle_count == triangles && m->convex == 0,
+    test_check(!problem && m->triangle_count == triangles && m->convex == 0,
           "%s: %u triangles (expected %u), %u vertices, radius %.4g, %s", rel, m->triangle_count,
           triangles, m->vertex_count, m->radius, problem ? problem : "finite unit normals");
     lucent_mesh_free(m);
@@ -78,7 +65,7 @@ static void expect_file_fails(const char *root, const char *rel, lucent_status s
     lucent_mesh *m = NULL;
     lucent_error err = {0};
     lucent_status st = lucent_mesh_import_file(path, &m, &err);
-    check(st == status && !m && err.message[0] && strstr(err.message, message_part),
+    test_check(st == status && !m && err.message[0] && strstr(err.message, message_part),
           "%s: fails with %s (%s: %s)", rel, lucent_status_name(status), lucent_status_name(st),
           err.message);
     lucent_mesh_free(m);
@@ -94,9 +81,9 @@ static lucent_status import_bytes(const void *data, size_t len, const char *ext,
     lucent_status st = lucent_mesh_import_memory(data, len, ext, &m, err);
     *triangles = lucent_mesh_triangle_count(m);
     if (st == LUCENT_OK && mesh_problem(m))
-        check(0, "memory import as %s returned an unsound mesh: %s", ext, mesh_problem(m));
+        test_check(0, "memory import as %s returned an unsound mesh: %s", ext, mesh_problem(m));
     if (st != LUCENT_OK && (!err->message[0] || m))
-        check(0, "memory import as %s failed without a message or left a mesh", ext);
+        test_check(0, "memory import as %s failed without a message or left a mesh", ext);
     lucent_mesh_free(m);
     return st;
 }
@@ -107,7 +94,7 @@ static void expect_memory_fails(const char *what, const char *text, size_t len, 
     lucent_error err;
     uint32_t triangles;
     lucent_status st = import_bytes(text, len, ext, &err, &triangles);
-    check(st == status && err.message[0], "%s (as %s): %s, field \"%s\": %s", what, ext,
+    test_check(st == status && err.message[0], "%s (as %s): %s, field \"%s\": %s", what, ext,
           lucent_status_name(st), err.field, err.message);
 }
 
@@ -117,7 +104,7 @@ static void expect_memory_loads(const char *what, const char *text, const char *
     lucent_error err;
     uint32_t got;
     lucent_status st = import_bytes(text, strlen(text), ext, &err, &got);
-    check(st == LUCENT_OK && got == triangles, "%s (as %s): %s, %u triangles (expected %u) %s", what,
+    test_check(st == LUCENT_OK && got == triangles, "%s (as %s): %s, %u triangles (expected %u) %s", what,
           ext, lucent_status_name(st), got, triangles, err.message);
 }
 
@@ -199,10 +186,10 @@ static void check_invalid_file(const char *path)
     lucent_status st = lucent_mesh_import_file(path, &m, &err);
     if (st == LUCENT_OK) {
         const char *problem = mesh_problem(m);
-        check(!problem, "%s: imports anyway (%u triangles); result is %s", path, m->triangle_count,
+        test_check(!problem, "%s: imports anyway (%u triangles); result is %s", path, m->triangle_count,
               problem ? problem : "sound");
     } else {
-        check(err.message[0] && !m, "%s: fails with %s: %s", path, lucent_status_name(st),
+        test_check(err.message[0] && !m, "%s: fails with %s: %s", path, lucent_status_name(st),
               err.message);
     }
     lucent_mesh_free(m);
@@ -210,7 +197,7 @@ static void check_invalid_file(const char *path)
     static const char *exts[] = {"obj", "ply", "stl", "gltf", "glb"};
     size_t len = 0;
     unsigned char *bytes = read_all(path, &len);
-    if (!check(bytes != NULL, "%s: readable", path))
+    if (!test_check(bytes != NULL, "%s: readable", path))
         return;
     char outcomes[128] = "";
     for (size_t i = 0; i < 5; i++) {
@@ -220,7 +207,7 @@ static void check_invalid_file(const char *path)
         snprintf(outcomes + used, sizeof outcomes - used, " %s:%s", exts[i],
                  st == LUCENT_OK ? "loads" : lucent_status_name(st));
     }
-    check(1, "%s: as bytes of each format, no crash:%s", path, outcomes);
+    test_check(1, "%s: as bytes of each format, no crash:%s", path, outcomes);
     free(bytes);
 }
 
@@ -302,7 +289,7 @@ static void check_external_references(void)
         expect_memory_fails(what, gltf, strlen(gltf), "gltf", LUCENT_E_MESH);
     }
     const char *canary = write_canary_buffer();
-    if (check(canary != NULL, "canary buffer written")) {
+    if (test_check(canary != NULL, "canary buffer written")) {
         write_gltf(gltf, sizeof gltf, canary, "");
         expect_memory_fails("glTF buffer uri naming a valid buffer on disk", gltf, strlen(gltf),
                             "gltf", LUCENT_E_MESH);
@@ -328,7 +315,7 @@ static void check_node_transforms(void)
     lucent_mesh *m = NULL;
     lucent_error err = {0};
     lucent_status st = lucent_mesh_import_memory(gltf, strlen(gltf), "gltf", &m, &err);
-    if (!check(st == LUCENT_OK, "mirrored, scaled, translated glTF node loads (%s)", err.message))
+    if (!test_check(st == LUCENT_OK, "mirrored, scaled, translated glTF node loads (%s)", err.message))
         return;
     /* the triangle spans x in [8, 10], y in [0, 2]: box centre (9, 1, 0) */
     double face[3], e1[3], e2[3];
@@ -339,10 +326,10 @@ static void check_node_transforms(void)
         e2[k] = p[3 * t[2] + k] - p[3 * t[0] + k];
     }
     face[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    check(fabs(m->center[0] - 9) < 1e-6 && fabs(m->center[1] - 1) < 1e-6 && fabs(m->radius - sqrt(2)) < 1e-6,
+    test_check(fabs(m->center[0] - 9) < 1e-6 && fabs(m->center[1] - 1) < 1e-6 && fabs(m->radius - sqrt(2)) < 1e-6,
           "transform baked: centre (%.3f, %.3f, %.3f), radius %.4f", m->center[0], m->center[1],
           m->center[2], m->radius);
-    check(face[2] > 0 && m->normals[2] > 0.999,
+    test_check(face[2] > 0 && m->normals[2] > 0.999,
           "mirrored triangle still winds counter-clockwise around its normal (face z %.2f, normal z %.3f)",
           face[2], m->normals[2]);
     lucent_mesh_free(m);
@@ -426,18 +413,18 @@ static void check_hostile_bytes(void)
     lucent_error err = {0};
     lucent_mesh *m = NULL;
     lucent_status st = lucent_mesh_import_memory(TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), NULL, &m, &err);
-    check(st == LUCENT_E_INVALID && strcmp(err.field, "mesh.file") == 0,
+    test_check(st == LUCENT_E_INVALID && strcmp(err.field, "mesh.file") == 0,
           "no format given: %s, field \"%s\"", lucent_status_name(st), err.field);
     char dir[64];
     snprintf(dir, sizeof dir, "/tmp/lucent_dir_%ld.obj", (long)getpid());
-    if (check(mkdir(dir, 0700) == 0, "made directory %s", dir)) {
+    if (test_check(mkdir(dir, 0700) == 0, "made directory %s", dir)) {
         st = lucent_mesh_import_file(dir, &m, &err);
-        check(st == LUCENT_E_IO && !m, "a directory named like a mesh: %s: %s", lucent_status_name(st),
+        test_check(st == LUCENT_E_IO && !m, "a directory named like a mesh: %s: %s", lucent_status_name(st),
               err.message);
         rmdir(dir);
     }
     st = lucent_mesh_import_file("/tmp", &m, &err);
-    check(st == LUCENT_E_INVALID && strcmp(err.field, "mesh.file") == 0,
+    test_check(st == LUCENT_E_INVALID && strcmp(err.field, "mesh.file") == 0,
           "a path without a mesh extension: %s: %s", lucent_status_name(st), err.message);
 }
 
@@ -460,11 +447,11 @@ static void check_bunny(const char *path)
     lucent_mesh *m = NULL;
     lucent_error err = {0};
     lucent_status st = lucent_mesh_import_file(path, &m, &err);
-    if (!check(st == LUCENT_OK, "bunny %s loads (%s %s)", path, lucent_status_name(st), err.message))
+    if (!test_check(st == LUCENT_OK, "bunny %s loads (%s %s)", path, lucent_status_name(st), err.message))
         return;
     uint32_t faces = count_obj_faces(path);
     const char *problem = mesh_problem(m);
-    check(!problem && m->triangle_count == faces && faces > 1000,
+    test_check(!problem && m->triangle_count == faces && faces > 1000,
           "bunny: %u triangles (the file has %u faces), %u vertices, radius %.4f, %s",
           m->triangle_count, faces, m->vertex_count, m->radius, problem ? problem : "sound");
     lucent_mesh_free(m);
@@ -479,11 +466,10 @@ int main(int argc, char **argv)
     check_models(argv[1]);
     int invalid_files = 0;
     walk_invalid(argv[1], 0, &invalid_files);
-    check(invalid_files > 0, "found %d files under invalid folders", invalid_files);
+    test_check(invalid_files > 0, "found %d files under invalid folders", invalid_files);
     check_external_references();
     check_node_transforms();
     check_hostile_bytes();
     check_bunny(argv[2]);
-    printf("%d passed, %d failed\n", passed, failed);
-    return failed ? 1 : 0;
+    return test_finish();
 }
