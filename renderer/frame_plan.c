@@ -70,9 +70,7 @@ static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh
     const double *dirs[FRAME_MAX_VIEWS] = {cam.forward, left_dir, right_dir, top_dir, bottom_dir};
     const double *ups[FRAME_MAX_VIEWS] = {up_cam, up_cam, up_cam, cam.forward, cam.forward};
     struct frame_uniforms *u = &plan->uniforms;
-    int side_size = s->side_projection_size ? s->side_projection_size : s->projection_size / 2;
-    if (side_size < LUCENT_MIN_PROJECTION_SIZE)
-        side_size = LUCENT_MIN_PROJECTION_SIZE;
+    int side_size = frame_side_projection_size(s);
     plan->side_projection_size = side_size;
     for (int k = 0; k < FRAME_MAX_VIEWS; k++) {
         int size = k == 0 ? s->projection_size : side_size;
@@ -223,6 +221,12 @@ static void plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
         shared_samples(d, r_max, s->samples, u);
     else
         per_channel_samples(d, r_max, s->samples, u);
+}
+
+int frame_side_projection_size(const lucent_scene *scene)
+{
+    int side = scene->side_projection_size ? scene->side_projection_size : scene->projection_size / 2;
+    return side < LUCENT_MIN_PROJECTION_SIZE ? LUCENT_MIN_PROJECTION_SIZE : side;
 }
 
 lucent_status frame_plan_build(const lucent_scene *scene, const struct lucent_mesh *mesh,

@@ -22,6 +22,10 @@ struct frame_plan {
     const char *shadow_reason[LUCENT_MAX_LIGHTS];  /* why light l has or has no shadow map */
 };
 
+/* The side images' size for a scene: side_projection_size, or half projection_size (at least
+ * LUCENT_MIN_PROJECTION_SIZE) when it is 0. */
+int frame_side_projection_size(const lucent_scene *scene);
+
 /* Side of every shadow map, texels. */
 #define SHADOW_MAP_SIZE 1024
 

@@ -12,7 +12,7 @@ static lucent_status check_side(int side, const char *field, lucent_error *err)
     return LUCENT_OK;
 }
 
-lucent_status lucent_image_alloc(lucent_image *img, int width, int height, lucent_error *err)
+lucent_status lucent_image_alloc(lucent_image *img, int width, int height, int with_aovs, lucent_error *err)
 {
     if (!img)
         return lucent_fail(err, LUCENT_E_INVALID, "", "lucent_image_alloc: image is NULL");
@@ -26,16 +26,18 @@ lucent_status lucent_image_alloc(lucent_image *img, int width, int height, lucen
     /* The side limit keeps pixels * 4 far below SIZE_MAX, so no product here can overflow. */
     size_t pixels = (size_t)width * (size_t)height;
     img->rgba = calloc(pixels * 4, sizeof(float));
-    img->depth = calloc(pixels, sizeof(float));
-    img->normal = calloc(pixels * 3, sizeof(float));
-    img->view = calloc(pixels, sizeof(float));
-    if (!img->rgba || !img->depth || !img->normal || !img->view) {
+    if (with_aovs) {
+        img->depth = calloc(pixels, sizeof(float));
+        img->normal = calloc(pixels * 3, sizeof(float));
+        img->view = calloc(pixels, sizeof(float));
+    }
+    if (!img->rgba || (with_aovs && (!img->depth || !img->normal || !img->view))) {
         lucent_image_free(img);
         return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory for a %dx%d image", width,
                            height);
     }
     /* Zero would name the front projection image; uncovered pixels must say "none". */
-    for (size_t i = 0; i < pixels; i++)
+    for (size_t i = 0; with_aovs && i < pixels; i++)
         img->view[i] = -1.0f;
     img->width = width;
     img->height = height;

@@ -276,16 +276,11 @@ lucent_status decode(OIIO::ImageInput &in, const char *path, lucent_image &img, 
             return lucent_fail(err, LUCENT_E_IO, "", "%s has no %s channel", path, name);
     lucent_status st = check_size(spec.width, spec.height, path, err);
     if (st == LUCENT_OK)
-        st = lucent_image_alloc(&img, spec.width, spec.height, err);
+        st = lucent_image_alloc(&img, spec.width, spec.height, format == "openexr", err);
     if (st != LUCENT_OK)
         return st;
     bool ok = read_rgba(in, img);
     if (format == "png") {
-        /* Only EXR carries AOVs. */
-        for (float **aov : {&img.depth, &img.normal, &img.view}) {
-            std::free(*aov);
-            *aov = nullptr;
-        }
         png_to_linear(img);
     } else {
         ok = ok && read_aov(in, {"Z"}, img.depth) &&

@@ -140,7 +140,8 @@ typedef struct lucent_image {
     float *view;
 } lucent_image;
 
-lucent_status lucent_image_alloc(lucent_image *img, int width, int height, lucent_error *err);
+/* Allocates a zeroed image; with_aovs = 0 leaves depth, normal and view NULL. */
+lucent_status lucent_image_alloc(lucent_image *img, int width, int height, int with_aovs, lucent_error *err);
 void lucent_image_free(lucent_image *img);
 
 /* Encodes to PNG (8-bit sRGB, straight alpha = coverage) or EXR (float RGBA + AOV channels),
@@ -189,7 +190,8 @@ lucent_renderer *lucent_renderer_create(const lucent_renderer_desc *desc, lucent
 void lucent_renderer_destroy(lucent_renderer *r);
 /* Releases the devices no renderer uses any more. */
 void lucent_shutdown(void);
-/* Renders one frame. out is allocated here; free with lucent_image_free. stats may be NULL. */
+/* Renders one frame. out is allocated here (AOVs only when scene->format is EXR); free with
+ * lucent_image_free. stats may be NULL. */
 lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucent_image *out,
                             lucent_stats *stats, lucent_error *err);
 /* Writes stats as one JSON object; returns the length or -1 if cap is too small. */

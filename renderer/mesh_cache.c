@@ -72,7 +72,8 @@ static lucent_status geometry_create(struct vk_context *ctx, const struct lucent
 static void slot_clear(struct vk_context *ctx, struct gpu_mesh *s)
 {
     geometry_destroy(ctx, &s->full);
-    geometry_destroy(ctx, &s->proxy);
+    geometry_destroy(ctx, &s->proxies[PROXY_FRONT].geometry);
+    geometry_destroy(ctx, &s->proxies[PROXY_SIDES].geometry);
     lucent_mesh_free(s->mesh);
     memset(s, 0, sizeof *s);
 }
@@ -88,37 +89,51 @@ static lucent_status slot_load(struct vk_context *ctx, const lucent_mesh_ref *re
     return geometry_create(ctx, s->mesh, &s->full, err);
 }
 
-static uint32_t proxy_target(int projection_size)
+static uint32_t proxy_target(int image_size)
 {
-    uint32_t target = (uint32_t)projection_size * (uint32_t)projection_size / PROXY_TEXELS_PER_TRIANGLE;
+    uint32_t target = (uint32_t)image_size * (uint32_t)image_size / PROXY_TEXELS_PER_TRIANGLE;
     return target > PROXY_MIN_TRIANGLES ? target : PROXY_MIN_TRIANGLES;
 }
 
-/* (Re)builds the proxy when the projection size calls for a different one. */
-static lucent_status ensure_proxy(struct vk_context *ctx, struct gpu_mesh *s, int projection_size, lucent_error *err)
+/* (Re)builds a proxy when the image size calls for a different one. */
+static lucent_status ensure_proxy(struct vk_context *ctx, const struct lucent_mesh *mesh, struct mesh_proxy *p,
+                                  int image_size, lucent_error *err)
 {
-    uint32_t target = proxy_target(projection_size);
-    int wanted = s->mesh->triangle_count > target + target / 2;
-    if ((!wanted && !s->proxy.index_count) || (wanted && s->proxy_target == target))
+    uint32_t target = proxy_target(image_size);
+    int wanted = mesh->triangle_count > target + target / 2;
+    if ((!wanted && !p->geometry.index_count) || (wanted && p->target == target))
         return LUCENT_OK;
-    geometry_destroy(ctx, &s->proxy);
-    s->proxy_target = s->proxy_triangles = 0;
+    geometry_destroy(ctx, &p->geometry);
+    p->target = p->triangles = 0;
     if (!wanted)
         return LUCENT_OK;
-    struct lucent_mesh *proxy = mesh_simplify(s->mesh, target);
+    struct lucent_mesh *proxy = mesh_simplify(mesh, target);
     if (!proxy)
         return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory simplifying the mesh");
-    lucent_status st = geometry_create(ctx, proxy, &s->proxy, err);
+    lucent_status st = geometry_create(ctx, proxy, &p->geometry, err);
     if (st == LUCENT_OK) {
-        s->proxy_target = target;
-        s->proxy_triangles = proxy->triangle_count;
+        p->target = target;
+        p->triangles = proxy->triangle_count;
     }
     lucent_mesh_free(proxy);
     return st;
 }
 
+static lucent_status ensure_proxies(struct vk_context *ctx, struct gpu_mesh *s, int projection_size, int side_size,
+                                    lucent_error *err)
+{
+    lucent_status st = ensure_proxy(ctx, s->mesh, &s->proxies[PROXY_FRONT], projection_size, err);
+    return st == LUCENT_OK ? ensure_proxy(ctx, s->mesh, &s->proxies[PROXY_SIDES], side_size, err) : st;
+}
+
+const struct gpu_geometry *gpu_mesh_geometry(const struct gpu_mesh *m, int which)
+{
+    return m->proxies[which].geometry.index_count ? &m->proxies[which].geometry : &m->full;
+}
+
 lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, const lucent_mesh_ref *ref,
-                             int projection_size, struct gpu_mesh **out, double *load_ms, lucent_error *err)
+                             int projection_size, int side_size, struct gpu_mesh **out, double *load_ms,
+                             lucent_error *err)
 {
     char key[sizeof cache->slots[0].key];
     lucent_status st = mesh_key(ref, key, sizeof key, err);
@@ -132,7 +147,7 @@ lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, c
             double t0 = now_ms();
             s->last_used = ++cache->clock;
             *out = s;
-            st = ensure_proxy(ctx, s, projection_size, err);
+            st = ensure_proxies(ctx, s, projection_size, side_size, err);
             *load_ms = now_ms() - t0;
             return st;
         }
@@ -145,7 +160,7 @@ lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, c
     slot_clear(ctx, victim);
     st = slot_load(ctx, ref, victim, err);
     if (st == LUCENT_OK)
-        st = ensure_proxy(ctx, victim, projection_size, err);
+        st = ensure_proxies(ctx, victim, projection_size, side_size, err);
     if (st != LUCENT_OK) {
         slot_clear(ctx, victim);
         return st;

@@ -8,9 +8,10 @@
 
 #define MESH_CACHE_SLOTS 4
 /* The projection and shadow passes draw a simplified proxy when the mesh has more triangles than
- * the front projection image can use: irradiance and depth are smooth, so about 8 texels per
- * triangle (projection_size^2 / 8 triangles, at least PROXY_MIN_TRIANGLES) loses little, and
- * those passes cost per triangle on CPU drivers. Meshes within 1.5x of the target draw in full. */
+ * a projection image can use: irradiance and depth are smooth, so about 8 texels per triangle
+ * (side^2 / 8 triangles, at least PROXY_MIN_TRIANGLES) loses little, and those passes cost per
+ * triangle on CPU drivers. One proxy serves the front image, one the smaller side images (and the
+ * soft-filtered shadow maps). Meshes within 1.5x of a target draw in full. */
 #define PROXY_TEXELS_PER_TRIANGLE 8u
 #define PROXY_MIN_TRIANGLES 8192u
 /* How far the proxy may stray from the mesh, as a fraction of the bounding radius. */
@@ -25,9 +26,11 @@ struct gpu_mesh {
     char key[1200];
     struct lucent_mesh *mesh;
     struct gpu_geometry full;
-    struct gpu_geometry proxy;     /* index_count 0: the projection passes draw `full` */
-    uint32_t proxy_target;         /* triangle budget the proxy was built for */
-    uint32_t proxy_triangles;
+    struct mesh_proxy {
+        struct gpu_geometry geometry;  /* index_count 0: that pass draws `full` */
+        uint32_t target;               /* triangle budget it was built for */
+        uint32_t triangles;
+    } proxies[2];                      /* PROXY_FRONT, PROXY_SIDES */
     uint64_t last_used;
 };
 
@@ -36,10 +39,15 @@ struct mesh_cache {
     uint64_t clock;
 };
 
-/* Finds or loads the mesh a scene names, with a proxy for the given projection size when it needs
- * one. load_ms is the import, simplification and upload time (0 on a hit). */
+enum { PROXY_FRONT = 0, PROXY_SIDES = 1 };
+
+/* Finds or loads the mesh a scene names, with proxies for the front and side image sizes where it
+ * needs them. load_ms is the import, simplification and upload time. */
 lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, const lucent_mesh_ref *ref,
-                             int projection_size, struct gpu_mesh **out, double *load_ms, lucent_error *err);
+                             int projection_size, int side_size, struct gpu_mesh **out, double *load_ms,
+                             lucent_error *err);
+/* What a pass drawing for PROXY_FRONT or PROXY_SIDES draws: the proxy, or the full mesh. */
+const struct gpu_geometry *gpu_mesh_geometry(const struct gpu_mesh *m, int which);
 void mesh_cache_destroy(struct vk_context *ctx, struct mesh_cache *cache);
 
 #endif

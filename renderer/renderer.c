@@ -239,7 +239,8 @@ static lucent_status record_frame(lucent_renderer *r, const lucent_scene *s, con
 {
     lucent_status st = LUCENT_OK;
     VkCommandBuffer cmd = r->ctx.cmd;
-    const struct gpu_geometry *projected = gm->proxy.index_count ? &gm->proxy : &gm->full;
+    const struct gpu_geometry *front_mesh = gpu_mesh_geometry(gm, PROXY_FRONT);
+    const struct gpu_geometry *side_mesh = gpu_mesh_geometry(gm, PROXY_SIDES);
     VkPipeline front, sides = VK_NULL_HANDLE, scatter;
     int five = plan->view_count > 1;
     /* Projection and shadow views look from outside the bounding sphere: on a closed mesh their
@@ -260,11 +261,11 @@ static lucent_status record_frame(lucent_renderer *r, const lucent_scene *s, con
     if (r->queries)
         vkCmdResetQueryPool(cmd, r->queries, 0, TS_COUNT);
     stamp(r, TS_START);
-    record_shadows(r, plan, projected, cull);
+    record_shadows(r, plan, side_mesh, cull);
     stamp(r, TS_SHADOW);
-    record_projection_pass(r, PROJECTION_FRONT, projected, front);
+    record_projection_pass(r, PROJECTION_FRONT, front_mesh, front);
     if (five) {
-        record_projection_pass(r, PROJECTION_SIDES, projected, sides);
+        record_projection_pass(r, PROJECTION_SIDES, side_mesh, sides);
         copy_sides(r);
     }
     stamp(r, TS_PROJECTION);
@@ -290,16 +291,19 @@ static void read_pass_times(lucent_renderer *r, lucent_stats *stats)
     stats->ms_scatter = (double)(ts[TS_SCATTER] - ts[TS_GBUFFER]) * k;
 }
 
-static lucent_status read_image(lucent_renderer *r, lucent_image *out, lucent_error *err)
+/* AOVs only travel in EXR; a PNG request skips copying them. */
+static lucent_status read_image(lucent_renderer *r, int with_aovs, lucent_image *out, lucent_error *err)
 {
     const struct render_targets *t = &r->targets;
-    lucent_status st = lucent_image_alloc(out, (int)t->width, (int)t->height, err);
+    lucent_status st = lucent_image_alloc(out, (int)t->width, (int)t->height, with_aovs, err);
     if (st != LUCENT_OK)
         return st;
     size_t pixels = (size_t)t->width * t->height;
     const unsigned char *base = t->output.mapped;
     const float *normal_view = (const float *)(base + t->normal_offset);
     memcpy(out->rgba, base + t->color_offset, pixels * 16);
+    if (!with_aovs)
+        return LUCENT_OK;
     memcpy(out->depth, base + t->depth_offset, pixels * 4);
     for (size_t i = 0; i < pixels; i++) {
         memcpy(&out->normal[i * 3], &normal_view[i * 4], 12);
@@ -319,15 +323,16 @@ static void describe(const lucent_scene *s, const struct frame_plan *plan, const
     snprintf(stats->modelled, sizeof stats->modelled,
              "{\"method\":\"%s\",\"views\":%d,\"samples_per_channel\":%d,\"sampling\":\"%s\","
              "\"texel_fetches_per_pixel\":%d,\"projection_size\":%d,\"side_projection_size\":%d,"
-             "\"scale_mm\":%.9g,\"shadows\":[%s],\"projection_mesh\":\"%s\","
+             "\"scale_mm\":%.9g,\"shadows\":[%s],"
+             "\"projection_triangles\":{\"front\":%u,\"sides_and_shadows\":%u},"
              "\"hidden_point_fallback\":\"next best-facing visible view, then front\","
              "\"single_scattering\":false}",
              s->method == LUCENT_METHOD_SINGLE ? "single" : "five", plan->view_count, s->samples,
              shared ? "shared" : "per_channel", shared ? s->samples : 3 * s->samples, s->projection_size,
              plan->view_count > 1 ? plan->side_projection_size : 0, plan->scale_mm, lights,
-             gm->proxy.index_count ? "proxy" : "full");
+             gpu_mesh_geometry(gm, PROXY_FRONT)->index_count / 3, gpu_mesh_geometry(gm, PROXY_SIDES)->index_count / 3);
     stats->triangles = gm->mesh->triangle_count;
-    stats->proxy_triangles = gm->proxy_triangles;
+    stats->proxy_triangles = gm->proxies[PROXY_FRONT].triangles;
     stats->shadow_maps = plan->shadow_count;
     stats->views = plan->view_count;
 }
@@ -346,10 +351,11 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
     struct frame_plan *plan = &r->plan;
     lucent_status st;
     if ((st = check_scene(scene, err)) ||
-        (st = mesh_cache_get(&r->ctx, &r->meshes, &scene->mesh, scene->projection_size, &gm, &stats->ms_mesh_load,
-                                    err)))
+        (st = mesh_cache_get(&r->ctx, &r->meshes, &scene->mesh, scene->projection_size,
+                                    frame_side_projection_size(scene), &gm, &stats->ms_mesh_load, err)))
         return st;
-    double tolerance = gm->proxy.index_count ? PROXY_TOLERANCE * gm->mesh->radius : 0.0;
+    int proxied = gm->proxies[PROXY_FRONT].triangles || gm->proxies[PROXY_SIDES].triangles;
+    double tolerance = proxied ? PROXY_TOLERANCE * gm->mesh->radius : 0.0;
     if ((st = frame_plan_build(scene, gm->mesh, tolerance, plan, err)) ||
         (st = ensure_targets(r, scene, plan->side_projection_size, err)))
         return st;
@@ -358,7 +364,7 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
         return st;
     read_pass_times(r, stats);
     double t1 = now_ms();
-    if ((st = read_image(r, out, err)))
+    if ((st = read_image(r, scene->format == LUCENT_FORMAT_EXR, out, err)))
         return st;
     stats->ms_readback = now_ms() - t1;
     stats->ms_total = now_ms() - t0;

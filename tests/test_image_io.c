@@ -163,7 +163,7 @@ static void test_alloc(void)
 {
     lucent_image img;
     lucent_error err = {0};
-    check_status(lucent_image_alloc(&img, 3, 2, &err), &err, "alloc 3x2");
+    check_status(lucent_image_alloc(&img, 3, 2, 1, &err), &err, "alloc 3x2");
     int zero = 1, minus_one = 1;
     for (int i = 0; i < 6; i++) {
         zero &= img.rgba[i * 4] == 0 && img.rgba[i * 4 + 3] == 0 && img.depth[i] == 0 &&
@@ -175,9 +175,9 @@ static void test_alloc(void)
     lucent_image_free(&img);
     check(!img.rgba && !img.view && img.width == 0, "free twice leaves a zeroed struct", NULL);
 
-    lucent_status st = lucent_image_alloc(&img, 0, 5, &err);
+    lucent_status st = lucent_image_alloc(&img, 0, 5, 1, &err);
     check(st == LUCENT_E_LIMIT && !img.rgba, "alloc width 0 -> limit", "%s", err.message);
-    st = lucent_image_alloc(&img, 5, LUCENT_MAX_IMAGE_SIDE + 1, &err);
+    st = lucent_image_alloc(&img, 5, LUCENT_MAX_IMAGE_SIDE + 1, 1, &err);
     check(st == LUCENT_E_LIMIT && strcmp(err.field, "height") == 0, "alloc height 4097 -> limit",
           "%s", err.message);
 }
@@ -361,7 +361,7 @@ static void test_non_finite(void)
 {
     lucent_image img;
     lucent_error err = {0};
-    if (lucent_image_alloc(&img, 2, 1, &err) != LUCENT_OK) {
+    if (lucent_image_alloc(&img, 2, 1, 1, &err) != LUCENT_OK) {
         check(0, "non-finite input", "%s", err.message);
         return;
     }
@@ -431,7 +431,7 @@ int main(void)
 
     lucent_image src;
     lucent_error err = {0};
-    if (lucent_image_alloc(&src, W, H, &err) != LUCENT_OK) {
+    if (lucent_image_alloc(&src, W, H, 1, &err) != LUCENT_OK) {
         printf("FAIL alloc %dx%d: %s\n", W, H, err.message);
         return 1;
     }

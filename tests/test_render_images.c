@@ -103,7 +103,7 @@ static void run(lucent_renderer *r, const char *mesh, const char *method)
     snprintf(json, sizeof json,
              "{\"mesh\":{\"builtin\":\"%s\"},\"material\":{\"preset\":\"marble\"},"
              "\"lights\":[{\"type\":\"directional\",\"direction\":[-1,0,0],\"intensity\":3}],"
-             "\"width\":%d,\"height\":%d,\"method\":\"%s\",\"projection_size\":128}",
+             "\"width\":%d,\"height\":%d,\"method\":\"%s\",\"projection_size\":128,\"format\":\"exr\"}",
              mesh, SIZE, SIZE, method);
     lucent_image img;
     lucent_stats stats;
