@@ -11,7 +11,7 @@ sudo_cmd=()
 
 packages=(
   build-essential cmake pkg-config git ca-certificates
-  libvulkan-dev mesa-vulkan-drivers vulkan-tools glslang-tools
+  libvulkan-dev mesa-vulkan-drivers vulkan-tools glslang-tools vulkan-validationlayers
   libegl-dev
   libjansson-dev
   libassimp-dev assimp-testmodels

@@ -3,6 +3,8 @@
  * and is logged. */
 #include "vk_device.h"
 
+#include "vk_validation.h"
+
 #include <stdio.h>
 #include <string.h>
 
@@ -133,8 +135,10 @@ static void destroy_device(struct vk_device *d)
         vkDeviceWaitIdle(d->device);
         vkDestroyDevice(d->device, NULL);
     }
-    if (d->instance)
+    if (d->instance) {
+        vk_validation_detach(d->instance, d->messenger);
         vkDestroyInstance(d->instance, NULL);
+    }
     pthread_mutex_destroy(&d->queue_lock);
     memset(d, 0, sizeof *d);
 }
@@ -148,7 +152,10 @@ static lucent_status create_device(struct vk_device *d, const char *request, luc
     VkApplicationInfo app = {.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO,
                              .pApplicationName = "lucent", .apiVersion = VK_API_VERSION_1_1};
     VkInstanceCreateInfo ici = {.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO, .pApplicationInfo = &app};
+    vk_validation_request(&ici);
     VK_TRY(vkCreateInstance(&ici, NULL, &d->instance), err);
+    if ((st = vk_validation_attach(d->instance, &d->messenger, err)) != LUCENT_OK)
+        goto fail;
     if ((st = pick_device(d, request, err)) != LUCENT_OK)
         goto fail;
     describe_device(d);

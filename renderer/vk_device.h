@@ -11,6 +11,7 @@
 
 struct vk_device {
     VkInstance instance;
+    VkDebugUtilsMessengerEXT messenger;   /* $LUCENT_VALIDATION=1 only */
     VkPhysicalDevice physical;
     VkDevice device;
     VkQueue queue;
