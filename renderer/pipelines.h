@@ -1,5 +1,5 @@
 /* pipelines.h - render passes, layouts and pipelines of the four passes (shadow, projection,
- * camera G-buffer, scatter). Created once per renderer from the SPIR-V embedded at build time. */
+ * camera G-buffer, scatter), from the SPIR-V embedded at build time; each renderer keeps its own. */
 #ifndef LUCENT_PIPELINES_H
 #define LUCENT_PIPELINES_H
 
@@ -15,8 +15,9 @@
 enum { PROJECTION_FRONT = 0, PROJECTION_SIDES = 1 };
 #define SIDE_VIEWS 4
 
-/* Projection pipelines are specialized by view count, light count and which lights are shadowed:
- * CPU drivers pay for every branch, taken or not. Built on first use, kept for the renderer's life. */
+/* Projection pipelines are specialized by culling, front/sides, light count and which lights are
+ * shadowed: CPU drivers pay for every branch, taken or not. Built on first use, kept with the
+ * pipelines. */
 #define PROJECTION_VARIANTS (2 * 2 * LUCENT_MAX_LIGHTS * (1 << LUCENT_MAX_LIGHTS))
 /* Scatter pipelines likewise, by sample count, view count and sampling scheme. */
 #define SCATTER_VARIANTS (LUCENT_MAX_SAMPLES * 2 * 2)

@@ -1,16 +1,11 @@
 /* renderer.c - the warm renderer: one Vulkan context, fixed pipelines, size-dependent targets and
  * cached meshes, and lucent_render(), which records and runs the four passes of one frame. */
-#include "frame_plan.h"
-#include "mesh_cache.h"
-#include "pipelines.h"
-#include "render_targets.h"
+#include "frame_record.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-enum { TS_START, TS_SHADOW, TS_PROJECTION, TS_GBUFFER, TS_SCATTER, TS_COUNT };
 
 struct lucent_renderer {
     struct vk_context ctx;
@@ -108,176 +103,6 @@ static lucent_status ensure_targets(lucent_renderer *r, const lucent_scene *s, i
                                  (uint32_t)s->projection_size, (uint32_t)side_size, t, err);
 }
 
-static void set_viewport(VkCommandBuffer cmd, uint32_t w, uint32_t h)
-{
-    VkViewport vp = {0.0f, 0.0f, (float)w, (float)h, 0.0f, 1.0f};
-    VkRect2D sc = {{0, 0}, {w, h}};
-    vkCmdSetViewport(cmd, 0, 1, &vp);
-    vkCmdSetScissor(cmd, 0, 1, &sc);
-}
-
-static void draw(VkCommandBuffer cmd, const struct gpu_geometry *g, int with_normals)
-{
-    VkBuffer vbs[2] = {g->positions.buffer, g->normals.buffer};
-    VkDeviceSize offsets[2] = {0, 0};
-    vkCmdBindVertexBuffers(cmd, 0, with_normals ? 2 : 1, vbs, offsets);
-    vkCmdBindIndexBuffer(cmd, g->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
-    vkCmdDrawIndexed(cmd, g->index_count, 1, 0, 0, 0);
-}
-
-static void begin_pass(VkCommandBuffer cmd, VkRenderPass pass, VkFramebuffer fb, uint32_t w, uint32_t h,
-                       const VkClearValue *clears, uint32_t clear_count)
-{
-    VkRenderPassBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO, .renderPass = pass,
-                                .framebuffer = fb, .renderArea = {{0, 0}, {w, h}},
-                                .clearValueCount = clear_count, .pClearValues = clears};
-    vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
-    set_viewport(cmd, w, h);
-}
-
-static void stamp(lucent_renderer *r, uint32_t query)
-{
-    if (r->queries)
-        vkCmdWriteTimestamp(r->ctx.cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, r->queries, query);
-}
-
-static void record_shadows(lucent_renderer *r, const struct frame_plan *plan, const struct gpu_geometry *g,
-                           int cull)
-{
-    VkCommandBuffer cmd = r->ctx.cmd;
-    VkClearValue clear = {.depthStencil = {1.0f, 0}};
-    for (int s = 0; s < plan->shadow_count; s++) {
-        begin_pass(cmd, r->pipes.shadow_pass, r->targets.shadow_fb[s], SHADOW_MAP_SIZE, SHADOW_MAP_SIZE, &clear, 1);
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->pipes.shadow[cull]);
-        vkCmdPushConstants(cmd, r->pipes.shadow_layout, VK_SHADER_STAGE_VERTEX_BIT, 0, 64, plan->shadow_clip[s]);
-        draw(cmd, g, 0);
-        vkCmdEndRenderPass(cmd);
-    }
-}
-
-static void record_projection_pass(lucent_renderer *r, int which, const struct gpu_geometry *g, VkPipeline pipeline)
-{
-    VkCommandBuffer cmd = r->ctx.cmd;
-    const struct render_targets *t = &r->targets;
-    /* Depth -1 marks texels no surface covers. */
-    VkClearValue clears[2] = {{.color = {{0.0f, 0.0f, 0.0f, -1.0f}}}, {.depthStencil = {1.0f, 0}}};
-    uint32_t side = which == PROJECTION_FRONT ? t->projection_size : t->side_size;
-    int32_t view_base = which == PROJECTION_FRONT ? 0 : 1;
-    begin_pass(cmd, r->pipes.projection_pass[which], which == PROJECTION_FRONT ? t->front_fb : t->sides_fb, side,
-               side, clears, 2);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->pipes.projection_layout, 0, 1,
-                            &t->projection_set, 0, NULL);
-    vkCmdPushConstants(cmd, r->pipes.projection_layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT,
-                       0, sizeof view_base, &view_base);
-    draw(cmd, g, 1);
-    vkCmdEndRenderPass(cmd);
-}
-
-/* The side images go into the top-left side_size^2 corner of layers 1-4 of the sampled array,
- * where the scatter pass's texel coordinates for those views point. */
-static void copy_sides(lucent_renderer *r)
-{
-    VkCommandBuffer cmd = r->ctx.cmd;
-    const struct render_targets *t = &r->targets;
-    VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
-                              .srcAccessMask = VK_ACCESS_SHADER_READ_BIT,
-                              .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-                              .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-                              .newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                              .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                              .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED, .image = t->projection.image,
-                              .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 1, SIDE_VIEWS}};
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0,
-                         NULL, 1, &b);
-    VkImageCopy region = {.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, SIDE_VIEWS},
-                          .dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, SIDE_VIEWS},
-                          .extent = {t->side_size, t->side_size, 1}};
-    vkCmdCopyImage(cmd, t->sides.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, t->projection.image,
-                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-    b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-    b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-    b.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL, 0,
-                         NULL, 1, &b);
-}
-
-static void record_gbuffer(lucent_renderer *r, const struct frame_plan *plan, const struct gpu_geometry *g,
-                           int cull)
-{
-    VkCommandBuffer cmd = r->ctx.cmd;
-    VkClearValue clears[3] = {{.color = {{0}}}, {.color = {{0}}}, {.depthStencil = {1.0f, 0}}};
-    begin_pass(cmd, r->pipes.gbuffer_pass, r->targets.gbuffer_fb, r->targets.width, r->targets.height, clears, 3);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r->pipes.gbuffer[cull]);
-    struct gbuffer_push push;
-    memcpy(push.clip_from_world, plan->camera_clip, sizeof push.clip_from_world);
-    memcpy(push.eye, plan->camera_eye, sizeof push.eye);
-    vkCmdPushConstants(cmd, r->pipes.gbuffer_layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT,
-                       0, sizeof push, &push);
-    draw(cmd, g, 1);
-    vkCmdEndRenderPass(cmd);
-}
-
-static void record_scatter(lucent_renderer *r, VkPipeline pipeline)
-{
-    VkCommandBuffer cmd = r->ctx.cmd;
-    int32_t size[2] = {(int32_t)r->targets.width, (int32_t)r->targets.height};
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->pipes.scatter_layout, 0, 1,
-                            &r->targets.scatter_set, 0, NULL);
-    vkCmdPushConstants(cmd, r->pipes.scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof size, size);
-    vkCmdDispatch(cmd, (r->targets.width + 7) / 8, (r->targets.height + 7) / 8, 1);
-    VkMemoryBarrier to_host = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-                               .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT, .dstAccessMask = VK_ACCESS_HOST_READ_BIT};
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host,
-                         0, NULL, 0, NULL);
-}
-
-static lucent_status record_frame(lucent_renderer *r, const lucent_scene *s, const struct frame_plan *plan,
-                                  const struct gpu_mesh *gm, lucent_error *err)
-{
-    lucent_status st = LUCENT_OK;
-    VkCommandBuffer cmd = r->ctx.cmd;
-    const struct gpu_geometry *front_mesh = gpu_mesh_geometry(gm, PROXY_FRONT);
-    const struct gpu_geometry *side_mesh = gpu_mesh_geometry(gm, PROXY_SIDES);
-    VkPipeline front, sides = VK_NULL_HANDLE, scatter;
-    int five = plan->view_count > 1;
-    /* Projection and shadow views look from outside the bounding sphere: on a closed mesh their
-     * back faces are always hidden. The camera may be inside. */
-    int cull = gm->mesh->closed, cull_camera = cull && plan->camera_outside;
-    st = pipelines_projection(&r->ctx, &r->pipes, PROJECTION_FRONT, plan->light_count, plan->shadow_mask, cull,
-                              &front, err);
-    if (st == LUCENT_OK && five)
-        st = pipelines_projection(&r->ctx, &r->pipes, PROJECTION_SIDES, plan->light_count, plan->shadow_mask, cull,
-                                  &sides, err);
-    if (st == LUCENT_OK)
-        st = pipelines_scatter(&r->ctx, &r->pipes, s->samples, plan->view_count, s->sampling, &scatter, err);
-    if (st != LUCENT_OK)
-        return st;
-    VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
-                                   .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
-    VK_TRY(vkBeginCommandBuffer(cmd, &bi), err);
-    if (r->queries)
-        vkCmdResetQueryPool(cmd, r->queries, 0, TS_COUNT);
-    stamp(r, TS_START);
-    record_shadows(r, plan, side_mesh, cull);
-    stamp(r, TS_SHADOW);
-    record_projection_pass(r, PROJECTION_FRONT, front_mesh, front);
-    if (five) {
-        record_projection_pass(r, PROJECTION_SIDES, side_mesh, sides);
-        copy_sides(r);
-    }
-    stamp(r, TS_PROJECTION);
-    record_gbuffer(r, plan, &gm->full, cull_camera);
-    stamp(r, TS_GBUFFER);
-    record_scatter(r, scatter);
-    stamp(r, TS_SCATTER);
-    VK_TRY(vkEndCommandBuffer(cmd), err);
-fail:
-    return st;
-}
-
 static void read_pass_times(lucent_renderer *r, lucent_stats *stats)
 {
     uint64_t ts[TS_COUNT];
@@ -360,7 +185,8 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
         (st = ensure_targets(r, scene, plan->side_projection_size, err)))
         return st;
     memcpy(r->uniforms.mapped, &plan->uniforms, sizeof plan->uniforms);
-    if ((st = record_frame(r, scene, plan, gm, err)) || (st = vk_submit_and_wait(&r->ctx, err)))
+    struct frame_gpu gpu = {&r->ctx, &r->pipes, &r->targets, r->queries};
+    if ((st = frame_record(&gpu, scene, plan, gm, err)) || (st = vk_submit_and_wait(&r->ctx, err)))
         return st;
     read_pass_times(r, stats);
     double t1 = now_ms();

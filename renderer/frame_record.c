@@ -1,0 +1,187 @@
+/* frame_record.c - turns a frame plan into commands. Pass order matters: shadow maps feed the
+ * projection images, which with the G-buffer feed the scatter pass; render-pass dependencies and
+ * the barriers around the side-image copy carry the data between them. */
+#include "frame_record.h"
+
+#include <string.h>
+
+static void set_viewport(VkCommandBuffer cmd, uint32_t w, uint32_t h)
+{
+    VkViewport vp = {0.0f, 0.0f, (float)w, (float)h, 0.0f, 1.0f};
+    VkRect2D sc = {{0, 0}, {w, h}};
+    vkCmdSetViewport(cmd, 0, 1, &vp);
+    vkCmdSetScissor(cmd, 0, 1, &sc);
+}
+
+static void draw(VkCommandBuffer cmd, const struct gpu_geometry *g, int with_normals)
+{
+    VkBuffer vbs[2] = {g->positions.buffer, g->normals.buffer};
+    VkDeviceSize offsets[2] = {0, 0};
+    vkCmdBindVertexBuffers(cmd, 0, with_normals ? 2 : 1, vbs, offsets);
+    vkCmdBindIndexBuffer(cmd, g->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+    vkCmdDrawIndexed(cmd, g->index_count, 1, 0, 0, 0);
+}
+
+static void begin_pass(VkCommandBuffer cmd, VkRenderPass pass, VkFramebuffer fb, uint32_t w, uint32_t h,
+                       const VkClearValue *clears, uint32_t clear_count)
+{
+    VkRenderPassBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO,
+                                .renderPass = pass,
+                                .framebuffer = fb,
+                                .renderArea = {{0, 0}, {w, h}},
+                                .clearValueCount = clear_count,
+                                .pClearValues = clears};
+    vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
+    set_viewport(cmd, w, h);
+}
+
+static void stamp(const struct frame_gpu *gpu, uint32_t query)
+{
+    if (gpu->queries)
+        vkCmdWriteTimestamp(gpu->ctx->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, gpu->queries, query);
+}
+
+static void record_shadows(const struct frame_gpu *gpu, const struct frame_plan *plan,
+                           const struct gpu_geometry *g, int cull)
+{
+    VkCommandBuffer cmd = gpu->ctx->cmd;
+    VkClearValue clear = {.depthStencil = {1.0f, 0}};
+    for (int s = 0; s < plan->shadow_count; s++) {
+        begin_pass(cmd, gpu->pipes->shadow_pass, gpu->targets->shadow_fb[s], SHADOW_MAP_SIZE, SHADOW_MAP_SIZE,
+                   &clear, 1);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, gpu->pipes->shadow[cull]);
+        vkCmdPushConstants(cmd, gpu->pipes->shadow_layout, VK_SHADER_STAGE_VERTEX_BIT, 0, 64,
+                           plan->shadow_clip[s]);
+        draw(cmd, g, 0);
+        vkCmdEndRenderPass(cmd);
+    }
+}
+
+static void record_projection_pass(const struct frame_gpu *gpu, int which, const struct gpu_geometry *g,
+                                   VkPipeline pipeline)
+{
+    VkCommandBuffer cmd = gpu->ctx->cmd;
+    const struct render_targets *t = gpu->targets;
+    /* Depth -1 marks texels no surface covers. */
+    VkClearValue clears[2] = {{.color = {{0.0f, 0.0f, 0.0f, -1.0f}}}, {.depthStencil = {1.0f, 0}}};
+    uint32_t side = which == PROJECTION_FRONT ? t->projection_size : t->side_size;
+    int32_t view_base = which == PROJECTION_FRONT ? 0 : 1;
+    begin_pass(cmd, gpu->pipes->projection_pass[which], which == PROJECTION_FRONT ? t->front_fb : t->sides_fb,
+               side, side, clears, 2);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, gpu->pipes->projection_layout, 0, 1,
+                            &t->projection_set, 0, NULL);
+    vkCmdPushConstants(cmd, gpu->pipes->projection_layout,
+                       VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof view_base,
+                       &view_base);
+    draw(cmd, g, 1);
+    vkCmdEndRenderPass(cmd);
+}
+
+/* The side images go into the top-left side_size^2 corner of layers 1-4 of the sampled array,
+ * where the scatter pass's texel coordinates for those views point. */
+static void copy_sides(const struct frame_gpu *gpu)
+{
+    VkCommandBuffer cmd = gpu->ctx->cmd;
+    const struct render_targets *t = gpu->targets;
+    VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                              .srcAccessMask = VK_ACCESS_SHADER_READ_BIT,
+                              .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                              .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+                              .newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                              .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                              .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                              .image = t->projection.image,
+                              .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 1, SIDE_VIEWS}};
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                         NULL, 0, NULL, 1, &b);
+    VkImageCopy region = {.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, SIDE_VIEWS},
+                          .dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, SIDE_VIEWS},
+                          .extent = {t->side_size, t->side_size, 1}};
+    vkCmdCopyImage(cmd, t->sides.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, t->projection.image,
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+    b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    b.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
+                         NULL, 0, NULL, 1, &b);
+}
+
+static void record_gbuffer(const struct frame_gpu *gpu, const struct frame_plan *plan,
+                           const struct gpu_geometry *g, int cull)
+{
+    VkCommandBuffer cmd = gpu->ctx->cmd;
+    VkClearValue clears[3] = {{.color = {{0}}}, {.color = {{0}}}, {.depthStencil = {1.0f, 0}}};
+    begin_pass(cmd, gpu->pipes->gbuffer_pass, gpu->targets->gbuffer_fb, gpu->targets->width,
+               gpu->targets->height, clears, 3);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, gpu->pipes->gbuffer[cull]);
+    struct gbuffer_push push;
+    memcpy(push.clip_from_world, plan->camera_clip, sizeof push.clip_from_world);
+    memcpy(push.eye, plan->camera_eye, sizeof push.eye);
+    vkCmdPushConstants(cmd, gpu->pipes->gbuffer_layout,
+                       VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push, &push);
+    draw(cmd, g, 1);
+    vkCmdEndRenderPass(cmd);
+}
+
+static void record_scatter(const struct frame_gpu *gpu, VkPipeline pipeline)
+{
+    VkCommandBuffer cmd = gpu->ctx->cmd;
+    int32_t size[2] = {(int32_t)gpu->targets->width, (int32_t)gpu->targets->height};
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, gpu->pipes->scatter_layout, 0, 1,
+                            &gpu->targets->scatter_set, 0, NULL);
+    vkCmdPushConstants(cmd, gpu->pipes->scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof size, size);
+    vkCmdDispatch(cmd, (gpu->targets->width + 7) / 8, (gpu->targets->height + 7) / 8, 1);
+    VkMemoryBarrier to_host = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                               .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
+                               .dstAccessMask = VK_ACCESS_HOST_READ_BIT};
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                         &to_host, 0, NULL, 0, NULL);
+}
+
+lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, const struct frame_plan *plan,
+                           const struct gpu_mesh *gm, lucent_error *err)
+{
+    lucent_status st = LUCENT_OK;
+    VkCommandBuffer cmd = gpu->ctx->cmd;
+    const struct gpu_geometry *front_mesh = gpu_mesh_geometry(gm, PROXY_FRONT);
+    const struct gpu_geometry *side_mesh = gpu_mesh_geometry(gm, PROXY_SIDES);
+    VkPipeline front, sides = VK_NULL_HANDLE, scatter;
+    int five = plan->view_count > 1;
+    /* Projection and shadow views look from outside the bounding sphere: on a closed mesh their
+     * back faces are always hidden. The camera may be inside. */
+    int cull = gm->mesh->closed, cull_camera = cull && plan->camera_outside;
+    st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_FRONT, plan->light_count, plan->shadow_mask,
+                              cull, &front, err);
+    if (st == LUCENT_OK && five)
+        st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_SIDES, plan->light_count,
+                                  plan->shadow_mask, cull, &sides, err);
+    if (st == LUCENT_OK)
+        st =
+            pipelines_scatter(gpu->ctx, gpu->pipes, s->samples, plan->view_count, s->sampling, &scatter, err);
+    if (st != LUCENT_OK)
+        return st;
+    VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                                   .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+    VK_TRY(vkBeginCommandBuffer(cmd, &bi), err);
+    if (gpu->queries)
+        vkCmdResetQueryPool(cmd, gpu->queries, 0, TS_COUNT);
+    stamp(gpu, TS_START);
+    record_shadows(gpu, plan, side_mesh, cull);
+    stamp(gpu, TS_SHADOW);
+    record_projection_pass(gpu, PROJECTION_FRONT, front_mesh, front);
+    if (five) {
+        record_projection_pass(gpu, PROJECTION_SIDES, side_mesh, sides);
+        copy_sides(gpu);
+    }
+    stamp(gpu, TS_PROJECTION);
+    record_gbuffer(gpu, plan, &gm->full, cull_camera);
+    stamp(gpu, TS_GBUFFER);
+    record_scatter(gpu, scatter);
+    stamp(gpu, TS_SCATTER);
+    VK_TRY(vkEndCommandBuffer(cmd), err);
+fail:
+    return st;
+}

@@ -1,0 +1,26 @@
+/* frame_record.h - records one frame's command buffer: shadow maps, the projection images (front
+ * pass, side pass, copy), the camera G-buffer and the scatter dispatch, with timestamps between. */
+#ifndef LUCENT_FRAME_RECORD_H
+#define LUCENT_FRAME_RECORD_H
+
+#include "frame_plan.h"
+#include "mesh_cache.h"
+#include "pipelines.h"
+#include "render_targets.h"
+
+/* Timestamp queries written after each pass. */
+enum { TS_START, TS_SHADOW, TS_PROJECTION, TS_GBUFFER, TS_SCATTER, TS_COUNT };
+
+/* What recording touches; all of it owned by the renderer. */
+struct frame_gpu {
+    struct vk_context *ctx;
+    struct pipelines *pipes;          /* variants are created here on first use */
+    const struct render_targets *targets;
+    VkQueryPool queries;              /* VK_NULL_HANDLE: no timestamps */
+};
+
+/* Records into gpu->ctx->cmd (not submitted). */
+lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, const struct frame_plan *plan,
+                           const struct gpu_mesh *gm, lucent_error *err);
+
+#endif
