@@ -21,7 +21,7 @@ static void centred(const double p[3], const struct lucent_mesh *mesh, double ou
         out[i] = p[i] - mesh->center[i];
 }
 
-static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh *mesh,
+static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh *mesh, struct view_frame *out,
                                  struct frame_plan *plan, lucent_error *err)
 {
     double aspect = (double)s->width / s->height;
@@ -60,15 +60,20 @@ static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh
     v3_copy_f4(eye, 0.0, plan->camera_eye);
     plan->camera_outside = v3_length(eye) > radius;
     v3_copy_f4(eye, 0.0, plan->uniforms.camera_eye);
+    *out = cam;
+    return LUCENT_OK;
+}
 
-    /* The projection images: front plus the four sides, in the camera's own frame. */
-    double up_cam[3] = {-cam.down[0], -cam.down[1], -cam.down[2]};
-    double left_dir[3] = {cam.right[0], cam.right[1], cam.right[2]};
-    double right_dir[3] = {-cam.right[0], -cam.right[1], -cam.right[2]};
-    double top_dir[3] = {cam.down[0], cam.down[1], cam.down[2]};
-    double bottom_dir[3] = {-cam.down[0], -cam.down[1], -cam.down[2]};
-    const double *dirs[FRAME_MAX_VIEWS] = {cam.forward, left_dir, right_dir, top_dir, bottom_dir};
-    const double *ups[FRAME_MAX_VIEWS] = {up_cam, up_cam, up_cam, cam.forward, cam.forward};
+/* The projection images: front plus the four sides, in the camera's own frame, orthographic and
+ * fitted to the bounding sphere. Texel (0,0) of image k is at view_origin, stepping view_du/dv. */
+static void plan_views(const lucent_scene *s, const struct view_frame *cam, double radius, struct frame_plan *plan)
+{
+    double clip[16];
+    double up_cam[3] = {-cam->down[0], -cam->down[1], -cam->down[2]};
+    double right_dir[3] = {-cam->right[0], -cam->right[1], -cam->right[2]};
+    /* The left image looks rightwards at the object's left side, and so on. */
+    const double *dirs[FRAME_MAX_VIEWS] = {cam->forward, cam->right, right_dir, cam->down, up_cam};
+    const double *ups[FRAME_MAX_VIEWS] = {up_cam, up_cam, up_cam, cam->forward, cam->forward};
     struct frame_uniforms *u = &plan->uniforms;
     int side_size = frame_side_projection_size(s);
     plan->side_projection_size = side_size;
@@ -93,7 +98,6 @@ static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh
         v3_copy_f4(dv, texel, u->view_dv[k]);
         v3_copy_f4(v.forward, 0.0, u->view_dir[k]);
     }
-    return LUCENT_OK;
 }
 
 /* A light needs a shadow map only when the mesh can occlude it from itself. */
@@ -236,9 +240,11 @@ lucent_status frame_plan_build(const lucent_scene *scene, const struct lucent_me
     plan->scale_mm = scene->scale_mm > 0.0 ? scene->scale_mm : 50.0 / (2.0 * mesh->radius);
     plan->view_count = scene->method == LUCENT_METHOD_SINGLE ? 1 : FRAME_MAX_VIEWS;
     plan->light_count = scene->light_count;
-    lucent_status st = plan_camera(scene, mesh, plan, err);
+    struct view_frame cam;
+    lucent_status st = plan_camera(scene, mesh, &cam, plan, err);
     if (st != LUCENT_OK)
         return st;
+    plan_views(scene, &cam, mesh->radius * FIT_MARGIN, plan);
     plan_lights(scene, mesh, proxy_tolerance, plan);
     plan_material(scene, mesh, plan);
     struct frame_uniforms *u = &plan->uniforms;

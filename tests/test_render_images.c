@@ -96,6 +96,23 @@ static void check_exr_aovs(const char *name, const lucent_image *img, int five)
     lucent_image_free(&back);
 }
 
+/* On the sphere every point is visible in the image facing it: a normal pointing to the camera's
+ * right must use the right image (2), left the left (1), up the top (3), down the bottom (4). */
+static void check_view_choice(const lucent_image *img)
+{
+    int expected = 0, matched = 0;
+    for (int i = 0; i < img->width * img->height; i++) {
+        const float *n = &img->normal[i * 3];
+        int want = n[0] > 0.8f ? 2 : n[0] < -0.8f ? 1 : n[1] > 0.8f ? 3 : n[1] < -0.8f ? 4 : -1;
+        if (img->view[i] < 0.0f || want < 0)
+            continue;
+        expected++;
+        matched += (int)img->view[i] == want;
+    }
+    test_check(expected > 0 && matched == expected,
+               "sphere/five: side-facing pixels use the image facing them (%d of %d)", matched, expected);
+}
+
 static void run(lucent_renderer *r, const char *mesh, const char *method)
 {
     char json[800], name[64];
@@ -113,6 +130,8 @@ static void run(lucent_renderer *r, const char *mesh, const char *method)
     check_finite_and_alpha(name, &img);
     check_lighting(name, &img);
     check_exr_aovs(name, &img, strcmp(method, "five") == 0);
+    if (strcmp(mesh, "sphere") == 0 && strcmp(method, "five") == 0)
+        check_view_choice(&img);
     lucent_image_free(&img);
 }
 
