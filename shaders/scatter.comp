@@ -95,27 +95,41 @@ vec3 dipole_rd3(float r)
 }
 
 // Sums texel flux x R_d x weight over the sample pattern around p in projection image k. The
-// lateral distance is the exact sample offset (not the texel centre's), so kernels narrower than
-// a texel still integrate to the right energy on flat regions; the depth difference adds the
-// third dimension.
-vec3 scattered_light(int k, vec3 p, ivec2 px)
+// distance to each sample is its exact lateral offset (not its texel centre's) plus a depth
+// difference. Within a texel of p the image cannot resolve the surface better than p's tangent
+// plane, so the depth comes from that plane; farther out it is the texel's depth, moved from the
+// texel centre to the sample along the tangent plane and compared with the image's own surface at
+// p. Texel quantization, facets and a proxy mesh's offset from the true surface then add no false
+// depth, and kernels narrower than a texel integrate to the right energy.
+vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px)
 {
     vec2 center = texel_coord(k, p);
     float mm_per_texel = frame.params.y * frame.view_dv[k].w;
     float rotation = pixel_rotation(px);
     mat2 rotate = mat2(cos(rotation), sin(rotation), -sin(rotation), cos(rotation));
-    float depth = dot(p - frame.view_origin[k].xyz, frame.view_dir[k].xyz);
+    vec3 dir = frame.view_dir[k].xyz;
+    float depth = dot(p - frame.view_origin[k].xyz, dir);
+    // Depth change per texel along x and y on the tangent plane; grazing slopes are capped.
+    float facing = min(dot(dir, n), -0.1);
+    vec2 slope = -vec2(dot(frame.view_du[k].xyz, n), dot(frame.view_dv[k].xyz, n)) / facing;
+    ivec2 home = ivec2(floor(center));
+    float home_depth = inside(k, home) ? texelFetch(projection_images, ivec3(home, k), 0).a : -1.0;
+    if (home_depth >= 0.0)
+        depth = home_depth + dot(center - (vec2(home) + 0.5), slope);
     vec3 sum = vec3(0.0);
     for (int c = 0; c < (SHARED_SAMPLES ? 1 : 3); c++) {
         for (int j = 0; j < SAMPLES; j++) {
             vec4 s = frame.samples[c * MAX_SAMPLES + j];
-            ivec2 t = ivec2(floor(center + (rotate * s.zw) * (s.x / mm_per_texel)));
+            vec2 at = center + (rotate * s.zw) * (s.x / mm_per_texel);
+            ivec2 t = ivec2(floor(at));
             if (!inside(k, t))
                 continue;
             vec4 texel = texelFetch(projection_images, ivec3(t, k), 0);
             if (texel.a < 0.0)
                 continue;
-            float dz = (texel.a - depth) * frame.params.y;
+            float step = s.x < mm_per_texel ? dot(at - center, slope)
+                                            : texel.a + dot(at - (vec2(t) + 0.5), slope) - depth;
+            float dz = step * frame.params.y;
             float r = sqrt(s.x * s.x + dz * dz);
             if (SHARED_SAMPLES)
                 sum += texel.rgb * dipole_rd3(r) * s.y;
@@ -145,7 +159,7 @@ void main()
     int k = choose_view(p, n);
     vec3 to_eye = normalize(frame.camera_eye.xyz - p);
     float ft_out = fresnel_transmittance(frame.params.x, dot(n, to_eye));
-    out_color[idx] = vec4(scattered_light(k, p, px) * (ft_out / PI), 1.0);
+    out_color[idx] = vec4(scattered_light(k, p, n, px) * (ft_out / PI), 1.0);
     out_normal_view[idx] = vec4(n, float(k));
     out_depth[idx] = position_depth.w;
 }
