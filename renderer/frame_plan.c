@@ -239,7 +239,6 @@ lucent_status frame_plan_build(const lucent_scene *scene, const struct lucent_me
     memset(plan, 0, sizeof *plan);
     plan->scale_mm = scene->scale_mm > 0.0 ? scene->scale_mm : 50.0 / (2.0 * mesh->radius);
     plan->view_count = scene->method == LUCENT_METHOD_SINGLE ? 1 : FRAME_MAX_VIEWS;
-    plan->light_count = scene->light_count;
     struct view_frame cam;
     lucent_status st = plan_camera(scene, mesh, &cam, plan, err);
     if (st != LUCENT_OK)

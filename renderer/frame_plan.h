@@ -15,7 +15,6 @@ struct frame_plan {
     int side_projection_size;               /* resolved side image size, texels */
     int shadow_count;                       /* shadow maps to draw */
     uint32_t shadow_mask;                   /* bit l: light l reads shadow map */
-    int light_count;
     int camera_outside;                     /* eye outside the bounding sphere */
     float shadow_clip[LUCENT_MAX_LIGHTS][16];
     double scale_mm;                        /* resolved millimetres per scene unit */

@@ -153,10 +153,10 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
     /* Projection and shadow views look from outside the bounding sphere: on a closed mesh their
      * back faces are always hidden. The camera may be inside. */
     int cull = gm->mesh->closed, cull_camera = cull && plan->camera_outside;
-    st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_FRONT, plan->light_count, plan->shadow_mask,
+    st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_FRONT, s->light_count, plan->shadow_mask,
                               cull, &front, err);
     if (st == LUCENT_OK && five)
-        st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_SIDES, plan->light_count,
+        st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_SIDES, s->light_count,
                                   plan->shadow_mask, cull, &sides, err);
     if (st == LUCENT_OK)
         st =

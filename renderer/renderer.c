@@ -69,7 +69,8 @@ void lucent_renderer_destroy(lucent_renderer *r)
     free(r);
 }
 
-/* Library callers may build scenes by hand: the limits the GPU side relies on are checked again. */
+/* Library callers may build scenes by hand: the limits the GPU side and the dipole rely on are
+ * checked again (the comparisons are written so that NaN fails them). */
 static lucent_status check_scene(const lucent_scene *s, lucent_error *err)
 {
     if (s->width < 1 || s->height < 1 || s->width > LUCENT_MAX_IMAGE_SIDE || s->height > LUCENT_MAX_IMAGE_SIDE)
@@ -84,6 +85,16 @@ static lucent_status check_scene(const lucent_scene *s, lucent_error *err)
                            LUCENT_MIN_PROJECTION_SIZE);
     if (s->samples < 1 || s->samples > LUCENT_MAX_SAMPLES)
         return lucent_fail(err, LUCENT_E_LIMIT, "samples", "must be 1..%d", LUCENT_MAX_SAMPLES);
+    const lucent_material *m = &s->material;
+    for (int c = 0; c < 3; c++)
+        if (!(m->sigma_a[c] >= 0.0 && m->sigma_a[c] <= LUCENT_MAX_SIGMA) ||
+            !(m->sigma_s_prime[c] >= LUCENT_MIN_SIGMA_S_PRIME && m->sigma_s_prime[c] <= LUCENT_MAX_SIGMA))
+            return lucent_fail(err, LUCENT_E_LIMIT, "material", "coefficients outside the documented ranges");
+    if (!(m->eta >= LUCENT_MIN_ETA && m->eta <= LUCENT_MAX_ETA))
+        return lucent_fail(err, LUCENT_E_LIMIT, "material.eta", "must be %g..%g", LUCENT_MIN_ETA, LUCENT_MAX_ETA);
+    if (s->scale_mm != 0.0 && !(s->scale_mm >= LUCENT_MIN_SCALE_MM && s->scale_mm <= LUCENT_MAX_SCALE_MM))
+        return lucent_fail(err, LUCENT_E_LIMIT, "scale_mm", "must be 0 (automatic) or %g..%g", LUCENT_MIN_SCALE_MM,
+                           LUCENT_MAX_SCALE_MM);
     if (s->light_count < 1 || s->light_count > LUCENT_MAX_LIGHTS)
         return lucent_fail(err, LUCENT_E_LIMIT, "lights", "must hold 1..%d lights", LUCENT_MAX_LIGHTS);
     return LUCENT_OK;
