@@ -48,9 +48,28 @@ static void check_case(lucent_renderer *r, const char *fields, const char *metho
     lucent_image_free(&img);
 }
 
+/* Scenes built by hand skip the parser: the renderer itself must refuse non-finite coefficients. */
+static void check_hand_built(lucent_renderer *r)
+{
+    lucent_scene scene;
+    lucent_scene_defaults(&scene);
+    scene.width = scene.height = 16;
+    scene.material.sigma_a[1] = NAN;
+    lucent_image img = {0};
+    lucent_error err = {0};
+    lucent_status st = lucent_render(r, &scene, &img, NULL, &err);
+    test_check(st == LUCENT_E_LIMIT, "hand-built scene with NaN sigma_a refused: [%s] %s", err.field, err.message);
+    lucent_scene_defaults(&scene);
+    scene.material.eta = 0.5;
+    st = lucent_render(r, &scene, &img, NULL, &err);
+    test_check(st == LUCENT_E_LIMIT, "hand-built scene with eta 0.5 refused: [%s] %s", err.field, err.message);
+    lucent_image_free(&img);
+}
+
 int main(void)
 {
     lucent_renderer *r = test_renderer();
+    check_hand_built(r);
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         check_case(r, cases[i], "five", "shared");
         check_case(r, cases[i], "single", "per_channel");
