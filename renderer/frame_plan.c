@@ -21,8 +21,8 @@ static void centred(const double p[3], const struct lucent_mesh *mesh, double ou
         out[i] = p[i] - mesh->center[i];
 }
 
-static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh *mesh, struct view_frame *out,
-                                 struct frame_plan *plan, lucent_error *err)
+lucent_status frame_camera(const lucent_scene *s, const struct lucent_mesh *mesh, struct view_frame *out,
+                           lucent_error *err)
 {
     double aspect = (double)s->width / s->height;
     double half_v = s->camera.fov_deg * 0.5 * DEG;
@@ -54,13 +54,27 @@ static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh
     cam.near = fmax(depth_forward - radius, radius * 1e-4);
     if (cam.near >= cam.far)
         cam.near = cam.far * 1e-4;
-    double clip[16];
-    view_frame_clip(&cam, clip);
-    m4_to_float(clip, plan->camera_clip);
-    v3_copy_f4(eye, 0.0, plan->camera_eye);
-    plan->camera_outside = v3_length(eye) > radius;
-    v3_copy_f4(eye, 0.0, plan->uniforms.camera_eye);
     *out = cam;
+    return LUCENT_OK;
+}
+
+double frame_scale_mm(const lucent_scene *scene, const struct lucent_mesh *mesh)
+{
+    return scene->scale_mm > 0.0 ? scene->scale_mm : 50.0 / (2.0 * mesh->radius);
+}
+
+static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh *mesh, struct view_frame *out,
+                                 struct frame_plan *plan, lucent_error *err)
+{
+    lucent_status st = frame_camera(s, mesh, out, err);
+    if (st != LUCENT_OK)
+        return st;
+    double clip[16];
+    view_frame_clip(out, clip);
+    m4_to_float(clip, plan->camera_clip);
+    v3_copy_f4(out->eye, 0.0, plan->camera_eye);
+    plan->camera_outside = v3_length(out->eye) > mesh->radius * FIT_MARGIN;
+    v3_copy_f4(out->eye, 0.0, plan->uniforms.camera_eye);
     return LUCENT_OK;
 }
 
@@ -237,7 +251,7 @@ lucent_status frame_plan_build(const lucent_scene *scene, const struct lucent_me
                                double proxy_tolerance, struct frame_plan *plan, lucent_error *err)
 {
     memset(plan, 0, sizeof *plan);
-    plan->scale_mm = scene->scale_mm > 0.0 ? scene->scale_mm : 50.0 / (2.0 * mesh->radius);
+    plan->scale_mm = frame_scale_mm(scene, mesh);
     plan->view_count = scene->method == LUCENT_METHOD_SINGLE ? 1 : FRAME_MAX_VIEWS;
     struct view_frame cam;
     lucent_status st = plan_camera(scene, mesh, &cam, plan, err);

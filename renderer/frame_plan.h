@@ -6,6 +6,7 @@
 #include "frame_uniforms.h"
 #include "lucent.h"
 #include "mesh.h"
+#include "view_frame.h"
 
 struct frame_plan {
     struct frame_uniforms uniforms;
@@ -20,6 +21,13 @@ struct frame_plan {
     double scale_mm;                        /* resolved millimetres per scene unit */
     const char *shadow_reason[LUCENT_MAX_LIGHTS];  /* why light l has or has no shadow map */
 };
+
+/* The camera of a scene in mesh-centred coordinates (perspective, near/far around the bounding
+ * sphere), shared by the raster passes and the reference integrator. */
+lucent_status frame_camera(const lucent_scene *scene, const struct lucent_mesh *mesh, struct view_frame *out,
+                           lucent_error *err);
+/* Millimetres per scene unit: scene->scale_mm, or what makes the bounding sphere 50 mm across. */
+double frame_scale_mm(const lucent_scene *scene, const struct lucent_mesh *mesh);
 
 /* The side images' size for a scene: side_projection_size, or half projection_size (at least
  * LUCENT_MIN_PROJECTION_SIZE) when it is 0. */
