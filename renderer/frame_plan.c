@@ -69,6 +69,7 @@ static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh
     lucent_status st = frame_camera(s, mesh, out, err);
     if (st != LUCENT_OK)
         return st;
+    plan->camera = *out;
     double clip[16];
     view_frame_clip(out, clip);
     m4_to_float(clip, plan->camera_clip);

@@ -10,6 +10,7 @@
 
 struct frame_plan {
     struct frame_uniforms uniforms;
+    struct view_frame camera;               /* mesh-centred, as frame_camera() gives it */
     float camera_clip[16];
     float camera_eye[4];
     int view_count;                         /* 1 (single) or 5 */

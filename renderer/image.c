@@ -30,8 +30,9 @@ lucent_status lucent_image_alloc(lucent_image *img, int width, int height, int w
         img->depth = calloc(pixels, sizeof(float));
         img->normal = calloc(pixels * 3, sizeof(float));
         img->view = calloc(pixels, sizeof(float));
+        img->facing = calloc(pixels, sizeof(float));
     }
-    if (!img->rgba || (with_aovs && (!img->depth || !img->normal || !img->view))) {
+    if (!img->rgba || (with_aovs && (!img->depth || !img->normal || !img->view || !img->facing))) {
         lucent_image_free(img);
         return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory for a %dx%d image", width,
                            height);
@@ -52,5 +53,6 @@ void lucent_image_free(lucent_image *img)
     free(img->depth);
     free(img->normal);
     free(img->view);
+    free(img->facing);
     *img = (lucent_image){0};
 }

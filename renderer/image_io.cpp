@@ -81,6 +81,8 @@ void exr_row(const lucent_image *img, int y, const Look &look, float *row)
             row = std::copy(img->normal + i * 3, img->normal + i * 3 + 3, row);
         if (img->view)
             *row++ = img->view[i];
+        if (img->facing)
+            *row++ = img->facing[i];
     }
 }
 
@@ -104,6 +106,8 @@ OIIO::ImageSpec exr_spec(const lucent_image *img)
         names.insert(names.end(), {"N.X", "N.Y", "N.Z"});
     if (img->view)
         names.push_back("view");
+    if (img->facing)
+        names.push_back("facing");
     OIIO::ImageSpec spec(img->width, img->height, (int)names.size(), OIIO::TypeDesc::FLOAT);
     spec.channelnames = names;
     spec.attribute("compression", "zip");
@@ -284,7 +288,8 @@ lucent_status decode(OIIO::ImageInput &in, const char *path, lucent_image &img, 
         png_to_linear(img);
     } else {
         ok = ok && read_aov(in, {"Z"}, img.depth) &&
-             read_aov(in, {"N.X", "N.Y", "N.Z"}, img.normal) && read_aov(in, {"view"}, img.view);
+             read_aov(in, {"N.X", "N.Y", "N.Z"}, img.normal) && read_aov(in, {"view"}, img.view) &&
+             read_aov(in, {"facing"}, img.facing);
     }
     if (ok)
         return LUCENT_OK;

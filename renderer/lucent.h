@@ -131,16 +131,18 @@ const char *lucent_material_preset_name(int i);
 /* Linear float image with the AOVs the renderer produces. Arrays are row-major, top row first.
  * rgba: 4 floats/pixel (radiance, coverage alpha); depth: camera distance in scene units
  * (0 where uncovered); normal: 3 floats/pixel, world space; view: chosen projection image
- * 0 front, 1 left, 2 right, 3 top, 4 bottom, -1 uncovered. Any AOV may be NULL. */
+ * 0 front, 1 left, 2 right, 3 top, 4 bottom, -1 uncovered; facing: cosine between the normal and
+ * the direction to the eye (0 where uncovered; near 0 at silhouettes). Any AOV may be NULL. */
 typedef struct lucent_image {
     int width, height;
     float *rgba;
     float *depth;
     float *normal;
     float *view;
+    float *facing;
 } lucent_image;
 
-/* Allocates a zeroed image; with_aovs = 0 leaves depth, normal and view NULL. */
+/* Allocates a zeroed image; with_aovs = 0 leaves depth, normal, view and facing NULL. */
 lucent_status lucent_image_alloc(lucent_image *img, int width, int height, int with_aovs, lucent_error *err);
 void lucent_image_free(lucent_image *img);
 
@@ -153,6 +155,23 @@ lucent_status lucent_image_write(const char *path, const lucent_image *img, luce
                                  double exposure, const double background[4], lucent_error *err);
 /* Reads a PNG or EXR back (EXR: RGBA and any AOV channels present, else NULL). */
 lucent_status lucent_image_load(const char *path, lucent_image *out, lucent_error *err);
+
+/* Error of an image against a reference, over the pixels covered in both (RGB radiance). rel_l2 is
+ * ||test - ref|| / ||ref|| over all those values; per-pixel relative error is |test - ref| / |ref|
+ * (RGB vectors, the reference floored at 1e-3 of its mean so black pixels do not divide by 0).
+ * The band_ fields repeat the measures for the silhouette band: pixels whose normal is 70 to 90
+ * degrees from the view direction (reference facing AOV below cos 70 deg; absent AOV: no band). */
+typedef struct lucent_image_error {
+    int pixels, band_pixels;
+    int coverage_mismatch;   /* pixels covered in one image only */
+    double rel_l2, mean_abs, max_abs, p99_rel, share_over_10pct;
+    double band_rel_l2, band_mean_abs, band_max_abs, band_p99_rel, band_share_over_10pct;
+} lucent_image_error;
+
+lucent_status lucent_image_compare(const lucent_image *test, const lucent_image *ref, lucent_image_error *out,
+                                   lucent_error *err);
+/* Writes the measures as one JSON object; returns the length or -1 if cap is too small. */
+int lucent_image_error_json(const lucent_image_error *e, char *buf, size_t cap);
 
 /* ---- Meshes ---- */
 typedef struct lucent_mesh lucent_mesh;

@@ -10,15 +10,17 @@
 #define MAX_SCENE_BYTES (16u << 20)
 
 static const char usage[] =
-    "usage: lucent-render SCENE.json -o OUT.png|OUT.exr [--stats] [--device NAME] [--verbose]\n"
+    "usage: lucent-render SCENE.json -o OUT.png|OUT.exr [--stats] [--compare REF.exr] [--device NAME] [--verbose]\n"
     "  SCENE.json   scene document (see README); '-' reads standard input\n"
     "  -o FILE      output image; the extension (.png or .exr) picks the format\n"
     "  --stats      print pass times and what was modelled, as JSON on standard output\n"
+    "  --compare R  print the error of this render against the EXR R (written with exposure 0 and no\n"
+    "               background, e.g. by method \"reference\"), as JSON on standard output\n"
     "  --device S   use the first Vulkan device whose name contains S (else $LUCENT_DEVICE)\n"
     "  --verbose    log the chosen device and resource creation to standard error\n";
 
 struct options {
-    const char *scene_path, *out_path, *device;
+    const char *scene_path, *out_path, *device, *compare_path;
     int stats, verbose;
 };
 
@@ -28,6 +30,8 @@ static int parse_args(int argc, char **argv, struct options *o)
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "-o") == 0 && i + 1 < argc)
             o->out_path = argv[++i];
+        else if (strcmp(argv[i], "--compare") == 0 && i + 1 < argc)
+            o->compare_path = argv[++i];
         else if (strcmp(argv[i], "--device") == 0 && i + 1 < argc)
             o->device = argv[++i];
         else if (strcmp(argv[i], "--stats") == 0)
@@ -77,6 +81,23 @@ static int format_from_path(const char *path, lucent_format *out)
     else
         return -1;
     return 0;
+}
+
+/* Prints {"compare": {...}} for the rendered image against a reference EXR. */
+static int print_comparison(const lucent_image *img, const char *ref_path)
+{
+    lucent_image ref = {0};
+    lucent_image_error e;
+    lucent_error err = {0};
+    char buf[1024];
+    int ok = lucent_image_load(ref_path, &ref, &err) == LUCENT_OK &&
+             lucent_image_compare(img, &ref, &e, &err) == LUCENT_OK && lucent_image_error_json(&e, buf, sizeof buf) > 0;
+    if (ok)
+        printf("{\"compare\":%s}\n", buf);
+    else
+        fprintf(stderr, "lucent-render: cannot compare with %s: %s\n", ref_path, err.message);
+    lucent_image_free(&ref);
+    return ok ? 0 : -1;
 }
 
 static void report(const char *what, const lucent_error *err)
@@ -136,7 +157,7 @@ int main(int argc, char **argv)
         if (lucent_stats_json(&stats, buf, sizeof buf) > 0)
             puts(buf);
     }
-    rc = 0;
+    rc = o.compare_path && print_comparison(&img, o.compare_path) != 0 ? 1 : 0;
 done:
     lucent_image_free(&img);
     lucent_renderer_destroy(r);

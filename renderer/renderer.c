@@ -127,6 +127,22 @@ static void read_pass_times(lucent_renderer *r, lucent_stats *stats)
     stats->ms_scatter = (double)(ts[TS_SCATTER] - ts[TS_GBUFFER]) * k;
 }
 
+/* The facing AOV: cosine between each covered pixel's normal and the direction to the eye, which
+ * image comparisons use to find the silhouette band. */
+static void fill_facing(lucent_image *img, const struct view_frame *camera)
+{
+    for (int y = 0; y < img->height; y++)
+        for (int x = 0; x < img->width; x++) {
+            size_t i = (size_t)y * img->width + x;
+            if (img->view[i] < 0.0f)
+                continue;
+            double dir[3];
+            view_frame_pixel_ray(camera, x, y, img->width, img->height, dir);
+            const float *n = &img->normal[i * 3];
+            img->facing[i] = (float)-(n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2]);
+        }
+}
+
 /* AOVs only travel in EXR; a PNG request skips copying them. */
 static lucent_status read_image(lucent_renderer *r, int with_aovs, lucent_image *out, lucent_error *err)
 {
@@ -145,6 +161,7 @@ static lucent_status read_image(lucent_renderer *r, int with_aovs, lucent_image 
         memcpy(&out->normal[i * 3], &normal_view[i * 4], 12);
         out->view[i] = normal_view[i * 4 + 3];
     }
+    fill_facing(out, &r->plan.camera);
     return LUCENT_OK;
 }
 

@@ -37,6 +37,14 @@ void view_frame_any_up(const double forward[3], double up[3])
         up[0] = 1.0;
 }
 
+void view_frame_pixel_ray(const struct view_frame *v, int x, int y, int width, int height, double dir[3])
+{
+    double ndc_x = 2.0 * (x + 0.5) / width - 1.0, ndc_y = 2.0 * (y + 0.5) / height - 1.0;
+    for (int i = 0; i < 3; i++)
+        dir[i] = v->forward[i] + v->right[i] * ndc_x * v->half_w + v->down[i] * ndc_y * v->half_h;
+    v3_normalize(dir);
+}
+
 void view_frame_clip(const struct view_frame *v, double m[16])
 {
     const double *axes[3] = {v->right, v->down, v->forward};

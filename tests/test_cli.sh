@@ -50,6 +50,9 @@ check "bunny renders single-view to PNG" "$bin" "$dir/bunny1.json" -o "$dir/bunn
 
 check "--stats prints pass times and what was modelled" \
     bash -c "'$bin' '$dir/s.json' -o '$dir/x.png' --stats > '$dir/stats.json' && cat '$dir/stats.json' && grep -q '\"scatter\"' '$dir/stats.json' && grep -q '\"modelled\"' '$dir/stats.json'"
+check "--compare against the same render reports zero error" \
+    bash -c "'$bin' '$dir/s.json' -o '$dir/ref.exr' && '$bin' '$dir/s.json' -o '$dir/again.png' --compare '$dir/ref.exr' > '$dir/cmp.json' && cat '$dir/cmp.json' && grep -q '\"rel_l2\":0,' '$dir/cmp.json' && grep -q 'silhouette_band' '$dir/cmp.json'"
+check "--compare with a missing reference: exit 1" expect_exit 1 "cannot compare" "$dir/s.json" -o "$dir/x.png" --compare "$dir/none.exr"
 check "scene from standard input" bash -c "'$bin' - -o '$dir/stdin.png' < '$dir/s.json'"
 
 check "LUCENT_DEVICE picks the device by name" \

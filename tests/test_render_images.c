@@ -73,7 +73,8 @@ static void check_exr_aovs(const char *name, const lucent_image *img, int five)
     int ok = lucent_image_write(path, img, LUCENT_FORMAT_EXR, 0.0, bg, &err) == LUCENT_OK &&
              lucent_image_load(path, &back, &err) == LUCENT_OK;
     unlink(path);
-    if (!test_check(ok && back.depth && back.normal && back.view, "%s: EXR has Z, N.X/N.Y/N.Z and view channels %s",
+    if (!test_check(ok && back.depth && back.normal && back.view && back.facing,
+                    "%s: EXR has Z, N.X/N.Y/N.Z, view and facing channels %s",
                     name, err.message))
         return;
     int bad = 0, side_views = 0, views_seen = 0;
@@ -85,11 +86,13 @@ static void check_exr_aovs(const char *name, const lucent_image *img, int five)
         }
         const float *n = &back.normal[i * 3];
         double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        bad += fabs(len - 1.0) > 1e-3 || back.depth[i] <= 0.0f || view < 0 || view > 4 || (!five && view != 0);
+        bad += fabs(len - 1.0) > 1e-3 || back.depth[i] <= 0.0f || view < 0 || view > 4 || (!five && view != 0) ||
+               !(back.facing[i] > -0.05f && back.facing[i] <= 1.0f);
         side_views += view > 0;
         views_seen |= 1 << view;
     }
-    test_check(bad == 0, "%s: AOVs sane (unit normals, positive depth, view in range) - %d bad pixels", name, bad);
+    test_check(bad == 0, "%s: AOVs sane (unit normals, positive depth, view in range, facing in [0,1]) - %d bad pixels",
+               name, bad);
     if (five)
         test_check(side_views > 0, "%s: five-view uses side images (%d pixels, views mask 0x%x)", name,
                    side_views, views_seen);

@@ -1,0 +1,123 @@
+/* image_compare.c - how far an image is from a reference: the error measures of the speed/accuracy
+ * trade, over the whole object and over the silhouette band where a single projection image fails. */
+#include "lucent.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* cos(70 degrees): normals beyond it are in the silhouette band. */
+#define BAND_COS 0.3420201433
+
+struct accumulator {
+    double diff2, ref2, abs_sum, abs_max;
+    int values, pixels, over_10pct;
+    double *rel;     /* per-pixel relative errors, for the percentile */
+};
+
+static int covered(const lucent_image *img, size_t i)
+{
+    return img->rgba[i * 4 + 3] > 0.0f;
+}
+
+static void add_pixel(struct accumulator *a, const float *t, const float *r, double floor)
+{
+    double d2 = 0.0, r2 = 0.0;
+    for (int c = 0; c < 3; c++) {
+        double d = (double)t[c] - r[c];
+        d2 += d * d;
+        r2 += (double)r[c] * r[c];
+        a->abs_sum += fabs(d);
+        a->abs_max = fmax(a->abs_max, fabs(d));
+    }
+    a->diff2 += d2;
+    a->ref2 += r2;
+    a->values += 3;
+    double rel = sqrt(d2) / fmax(sqrt(r2), floor);
+    a->over_10pct += rel > 0.1;
+    a->rel[a->pixels++] = rel;
+}
+
+static int compare_double(const void *x, const void *y)
+{
+    double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
+}
+
+static void finish(struct accumulator *a, double *rel_l2, double *mean_abs, double *max_abs, double *p99,
+                   double *share)
+{
+    if (a->pixels == 0) {
+        *rel_l2 = *mean_abs = *max_abs = *p99 = *share = 0.0;
+        return;
+    }
+    qsort(a->rel, (size_t)a->pixels, sizeof *a->rel, compare_double);
+    *rel_l2 = a->ref2 > 0.0 ? sqrt(a->diff2 / a->ref2) : sqrt(a->diff2);
+    *mean_abs = a->abs_sum / a->values;
+    *max_abs = a->abs_max;
+    *p99 = a->rel[(size_t)floor(0.99 * (a->pixels - 1))];
+    *share = (double)a->over_10pct / a->pixels;
+}
+
+/* Mean reference radiance magnitude over covered pixels, for the relative-error floor. */
+static double mean_reference(const lucent_image *ref, size_t pixels)
+{
+    double sum = 0.0;
+    size_t n = 0;
+    for (size_t i = 0; i < pixels; i++)
+        if (covered(ref, i)) {
+            const float *r = &ref->rgba[i * 4];
+            sum += sqrt((double)r[0] * r[0] + (double)r[1] * r[1] + (double)r[2] * r[2]);
+            n++;
+        }
+    return n ? sum / n : 0.0;
+}
+
+lucent_status lucent_image_compare(const lucent_image *test, const lucent_image *ref, lucent_image_error *out,
+                                   lucent_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (!test->rgba || !ref->rgba || test->width != ref->width || test->height != ref->height)
+        return lucent_fail(err, LUCENT_E_INVALID, "compare", "images differ in size (%dx%d vs reference %dx%d)",
+                           test->width, test->height, ref->width, ref->height);
+    size_t pixels = (size_t)test->width * test->height;
+    struct accumulator all = {0}, band = {0};
+    all.rel = malloc(pixels * sizeof *all.rel);
+    band.rel = malloc(pixels * sizeof *band.rel);
+    if (!all.rel || !band.rel) {
+        free(all.rel);
+        free(band.rel);
+        return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory comparing images");
+    }
+    double floor = 1e-3 * mean_reference(ref, pixels);
+    for (size_t i = 0; i < pixels; i++) {
+        int in_test = covered(test, i), in_ref = covered(ref, i);
+        out->coverage_mismatch += in_test != in_ref;
+        if (!in_test || !in_ref)
+            continue;
+        add_pixel(&all, &test->rgba[i * 4], &ref->rgba[i * 4], floor);
+        if (ref->facing && fabsf(ref->facing[i]) < BAND_COS)
+            add_pixel(&band, &test->rgba[i * 4], &ref->rgba[i * 4], floor);
+    }
+    out->pixels = all.pixels;
+    out->band_pixels = band.pixels;
+    finish(&all, &out->rel_l2, &out->mean_abs, &out->max_abs, &out->p99_rel, &out->share_over_10pct);
+    finish(&band, &out->band_rel_l2, &out->band_mean_abs, &out->band_max_abs, &out->band_p99_rel,
+           &out->band_share_over_10pct);
+    free(all.rel);
+    free(band.rel);
+    return LUCENT_OK;
+}
+
+int lucent_image_error_json(const lucent_image_error *e, char *buf, size_t cap)
+{
+    int n = snprintf(buf, cap,
+                     "{\"pixels\":%d,\"coverage_mismatch\":%d,\"rel_l2\":%.6g,\"mean_abs\":%.6g,\"max_abs\":%.6g,"
+                     "\"p99_rel\":%.6g,\"share_over_10pct\":%.6g,\"silhouette_band\":{\"pixels\":%d,"
+                     "\"rel_l2\":%.6g,\"mean_abs\":%.6g,\"max_abs\":%.6g,\"p99_rel\":%.6g,\"share_over_10pct\":%.6g}}",
+                     e->pixels, e->coverage_mismatch, e->rel_l2, e->mean_abs, e->max_abs, e->p99_rel,
+                     e->share_over_10pct, e->band_pixels, e->band_rel_l2, e->band_mean_abs, e->band_max_abs,
+                     e->band_p99_rel, e->band_share_over_10pct);
+    return n < 0 || (size_t)n >= cap ? -1 : n;
+}
