@@ -55,9 +55,12 @@ const char *lucent_status_name(lucent_status s);
 #define LUCENT_MAX_SCALE_MM 1.0e9
 #define LUCENT_MAX_INTENSITY 1.0e12
 #define LUCENT_MAX_EXPOSURE 64.0     /* stops, either way */
+#define LUCENT_MAX_REFERENCE_POINTS 4000000u
 
 /* ---- Scene ---- */
-typedef enum lucent_method { LUCENT_METHOD_FIVE = 0, LUCENT_METHOD_SINGLE } lucent_method;
+/* five, single: the image-space method (GPU); reference: the model without image-space shortcuts,
+ * on the CPU in double precision (the ground truth the others are scored against). */
+typedef enum lucent_method { LUCENT_METHOD_FIVE = 0, LUCENT_METHOD_SINGLE, LUCENT_METHOD_REFERENCE } lucent_method;
 typedef enum lucent_format { LUCENT_FORMAT_PNG = 0, LUCENT_FORMAT_EXR } lucent_format;
 /* shared: every fetched texel feeds all three channels (multiple importance sampling over the
  * three channels' profiles), `samples` fetches a pixel; per_channel: the paper's scheme, each
@@ -112,6 +115,10 @@ typedef struct lucent_scene {
     double background[4];  /* linear RGBA composited under the object on output */
     double exposure;       /* stops: output = radiance * 2^exposure */
     lucent_format format;
+    /* method "reference" only */
+    uint32_t reference_points;     /* irradiance points over the surface; 0 = automatic */
+    double reference_threshold;    /* hierarchical sum's node size / distance; 0 = brute force,
+                                    * < 0 = default */
 } lucent_scene;
 
 /* Fills every field with its documented default. */

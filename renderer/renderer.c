@@ -1,7 +1,9 @@
 /* renderer.c - the warm renderer: one Vulkan context, fixed pipelines, size-dependent targets and
  * cached meshes, and lucent_render(), which records and runs the four passes of one frame. */
 #include "frame_record.h"
+#include "reference.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -190,6 +192,34 @@ static void describe(const lucent_scene *s, const struct frame_plan *plan, const
     stats->views = plan->view_count;
 }
 
+/* method "reference": the CPU integrator on the cached mesh, with the same camera and AOVs. */
+static lucent_status render_reference(const lucent_scene *scene, const struct gpu_mesh *gm, lucent_image *out,
+                                      lucent_stats *stats, lucent_error *err)
+{
+    struct view_frame camera;
+    lucent_status st = frame_camera(scene, gm->mesh, &camera, err);
+    if (st != LUCENT_OK)
+        return st;
+    double scale_mm = frame_scale_mm(scene, gm->mesh);
+    struct reference_options options = {.points = scene->reference_points,
+                                        .brute_force = scene->reference_threshold == 0.0,
+                                        .threshold = fmax(scene->reference_threshold, 0.0)};
+    struct reference_report report;
+    int with_aovs = scene->format == LUCENT_FORMAT_EXR;
+    st = reference_render(scene, gm->mesh, &camera, scale_mm, &options, with_aovs, out, &report, err);
+    if (st != LUCENT_OK)
+        return st;
+    stats->triangles = gm->mesh->triangle_count;
+    snprintf(stats->modelled, sizeof stats->modelled,
+             "{\"method\":\"reference\",\"scale_mm\":%.9g,\"points\":%u,\"point_spacing_mm\":%.6g,"
+             "\"min_mean_free_path_mm\":%.6g,\"sum\":\"%s\",\"threshold\":%.6g,\"estimated_rel_error\":%.3g,"
+             "\"ms_points\":%.3f,\"ms_pixels\":%.3f,\"single_scattering\":false}",
+             scale_mm, report.points, report.point_spacing_mm, report.min_mean_free_path_mm,
+             options.brute_force ? "brute force" : "hierarchical", report.threshold, report.estimated_rel_error,
+             report.ms_points, report.ms_pixels);
+    return LUCENT_OK;
+}
+
 lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucent_image *out,
                             lucent_stats *stats, lucent_error *err)
 {
@@ -207,6 +237,11 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
         (st = mesh_cache_get(&r->ctx, &r->meshes, &scene->mesh, scene->projection_size,
                                     frame_side_projection_size(scene), &gm, &stats->ms_mesh_load, err)))
         return st;
+    if (scene->method == LUCENT_METHOD_REFERENCE) {
+        st = render_reference(scene, gm, out, stats, err);
+        stats->ms_total = now_ms() - t0;
+        return st;
+    }
     int proxied = gm->proxies[PROXY_FRONT].triangles || gm->proxies[PROXY_SIDES].triangles;
     double tolerance = proxied ? PROXY_TOLERANCE * gm->mesh->radius : 0.0;
     if ((st = frame_plan_build(scene, gm->mesh, tolerance, plan, err)) ||

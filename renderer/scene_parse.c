@@ -62,7 +62,8 @@ static const char *const builtin_names[] = {"sphere", "torus", "protrusion", NUL
 static const char *const light_type_names[] = {
     [LUCENT_LIGHT_DIRECTIONAL] = "directional", [LUCENT_LIGHT_POINT] = "point", NULL};
 static const char *const method_names[] = {
-    [LUCENT_METHOD_FIVE] = "five", [LUCENT_METHOD_SINGLE] = "single", NULL};
+    [LUCENT_METHOD_FIVE] = "five", [LUCENT_METHOD_SINGLE] = "single", [LUCENT_METHOD_REFERENCE] = "reference",
+    NULL};
 static const char *const sampling_names[] = {
     [LUCENT_SAMPLING_SHARED] = "shared", [LUCENT_SAMPLING_PER_CHANNEL] = "per_channel", NULL};
 static const char *const format_names[] = {
@@ -71,7 +72,8 @@ static const char *const format_names[] = {
 static const char *const top_keys[] = {"mesh", "scale_mm", "material", "lights", "camera",
                                        "width", "height", "method", "samples", "sampling",
                                        "projection_size", "side_projection_size", "background",
-                                       "exposure", "format", NULL};
+                                       "exposure", "format", "reference", NULL};
+static const char *const reference_keys[] = {"points", "threshold", NULL};
 static const char *const mesh_keys[] = {"builtin", "triangles", "file", NULL};
 static const char *const material_keys[] = {"preset", "sigma_a", "sigma_s_prime", "eta", NULL};
 static const char *const directional_keys[] = {"type", "direction", "color", "intensity", NULL};
@@ -643,6 +645,28 @@ static lucent_status parse_output(json_t *doc, lucent_scene *s, lucent_error *er
     return st;
 }
 
+/* Options of method "reference": {"points": 0 or 1000..4e6, "threshold": 0 (brute force) .. 1}. */
+static lucent_status parse_reference(json_t *v, lucent_scene *s, lucent_error *err)
+{
+    static const range points = {0, LUCENT_MAX_REFERENCE_POINTS, 0, "0 picks the count automatically"};
+    static const range threshold = {0.0, 1.0, 0, "0 sums every point exactly"};
+    int count = (int)s->reference_points;
+    if (!v)
+        return LUCENT_OK;
+    lucent_status st = require_object(v, "reference", err);
+    if (st == LUCENT_OK)
+        st = check_known_keys(v, reference_keys, "reference", err);
+    if (st == LUCENT_OK)
+        st = get_int(v, "reference", "points", &points, &count, err);
+    if (st == LUCENT_OK)
+        st = get_number(v, "reference", "threshold", &threshold, &s->reference_threshold, err);
+    if (st == LUCENT_OK && count > 0 && count < 1000)
+        st = lucent_fail(err, LUCENT_E_INVALID, "reference.points", "must be 0 (automatic) or at least 1000 (got %d)",
+                         count);
+    s->reference_points = (uint32_t)count;
+    return st;
+}
+
 static lucent_status parse_document(json_t *doc, int allow_files, lucent_scene *s,
                                     lucent_error *err)
 {
@@ -665,6 +689,8 @@ static lucent_status parse_document(json_t *doc, int allow_files, lucent_scene *
         st = parse_camera(json_object_get(doc, "camera"), &s->camera, err);
     if (st == LUCENT_OK)
         st = parse_output(doc, s, err);
+    if (st == LUCENT_OK)
+        st = parse_reference(json_object_get(doc, "reference"), s, err);
     return st;
 }
 
@@ -686,6 +712,7 @@ void lucent_scene_defaults(lucent_scene *scene)
     scene->samples = DEFAULT_SAMPLES;
     scene->projection_size = DEFAULT_PROJECTION;
     scene->format = LUCENT_FORMAT_PNG;
+    scene->reference_threshold = -1.0;
 }
 
 lucent_status lucent_scene_parse(const char *json, size_t len, int allow_files, lucent_scene *out,

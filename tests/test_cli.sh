@@ -50,6 +50,8 @@ check "bunny renders single-view to PNG" "$bin" "$dir/bunny1.json" -o "$dir/bunn
 
 check "--stats prints pass times and what was modelled" \
     bash -c "'$bin' '$dir/s.json' -o '$dir/x.png' --stats > '$dir/stats.json' && cat '$dir/stats.json' && grep -q '\"scatter\"' '$dir/stats.json' && grep -q '\"modelled\"' '$dir/stats.json'"
+check "method reference renders to EXR with AOVs and reports its convergence" \
+    bash -c "printf '{\"mesh\":{\"builtin\":\"sphere\"},\"width\":32,\"height\":24,\"method\":\"reference\"}' > '$dir/ref.json' && '$bin' '$dir/ref.json' -o '$dir/reference.exr' --stats | tee '$dir/ref.stats' | head -c 400 && echo && grep -q 'estimated_rel_error' '$dir/ref.stats' && $(declare -f image_is); image_is '$dir/reference.exr' 32 24 10"
 check "--compare against the same render reports zero error" \
     bash -c "'$bin' '$dir/s.json' -o '$dir/ref.exr' && '$bin' '$dir/s.json' -o '$dir/again.png' --compare '$dir/ref.exr' > '$dir/cmp.json' && cat '$dir/cmp.json' && grep -q '\"rel_l2\":0,' '$dir/cmp.json' && grep -q 'silhouette_band' '$dir/cmp.json'"
 check "--compare with a missing reference: exit 1" expect_exit 1 "cannot compare" "$dir/s.json" -o "$dir/x.png" --compare "$dir/none.exr"

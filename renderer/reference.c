@@ -1,0 +1,624 @@
+/* reference.c - the CPU ground truth of the dipole model: ray-cast visible points, irradiance points
+ * spread evenly over the whole surface with shadow rays, and the sum of their flux times R_d(r). */
+#include "reference.h"
+
+#include "bvh.h"
+#include "dipole.h"
+#include "linalg.h"
+
+#include <float.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <time.h>
+#include <unistd.h>
+
+#define PI 3.14159265358979323846
+/* frac(j / phi): the second coordinate of each point; with the first one stratified along the
+ * cumulative area this makes a Fibonacci-like lattice inside every triangle. */
+#define GOLDEN_FRACTION 0.61803398874989484820
+/* Automatic point count: spacing a quarter of the smallest mean free path (the scale of R_d's peak,
+ * z_r = 1 mfp), between these bounds: the floor keeps shadow edges and curvature sampled when a long
+ * mean free path alone would ask for few points; above the cap a 64x64 frame no longer renders in
+ * about a second (the report's estimated error then says what the cap costs). */
+#define AUTO_SPACING_MFP 0.25
+#define AUTO_MIN_POINTS 20000.0
+#define AUTO_MAX_POINTS 400000.0
+/* Hierarchical sum: a node of box diagonal s at distance d from the shaded point is used whole when
+ * s < threshold * d (test_reference measures the error of this default against brute force). */
+#define DEFAULT_THRESHOLD 0.2
+#define LEAF_POINTS 8
+#define MAX_TREE_DEPTH 60
+#define MAX_THREADS 64
+/* Shadow rays start this far (times the mesh radius) off the surface so they miss their own triangle. */
+#define SHADOW_OFFSET 1e-6
+
+struct ref_light {
+    int point;           /* 1: vec is a position, 0: the direction the light travels */
+    double vec[3];
+    double rgb[3];       /* color * intensity */
+};
+
+struct point_node {
+    double lo[3], hi[3];
+    double extent;           /* box diagonal, scene units */
+    double flux[3];          /* sum of E * A per channel (E in light units, A in mm^2) */
+    double centroid[3][3];   /* per channel, flux-weighted */
+    uint32_t first;          /* leaf: first point; inner: index of the second child (first is next) */
+    uint32_t count;          /* leaf: point count; inner: 0 */
+};
+
+struct context {
+    const lucent_scene *scene;
+    const struct lucent_mesh *mesh;
+    const struct view_frame *camera;
+    struct bvh *bvh;
+    struct dipole dipole[3];
+    double scale_mm, threshold, eta;
+    int brute_force, shadows;
+    struct ref_light lights[LUCENT_MAX_LIGHTS];
+    int light_count;
+    /* surface sampling */
+    double *cum_area;        /* per triangle, inclusive prefix sum, scene units^2 */
+    double total_area;
+    size_t point_count;
+    double *pos;             /* 3 per point, mesh-centred scene units */
+    double *flux;            /* 3 per point, E * A with A in mm^2 */
+    /* hierarchy over the points, which are reordered so every leaf's points are contiguous */
+    struct point_node *nodes;
+    uint32_t node_count;
+    uint32_t *order;
+    lucent_image *out;
+};
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+/* ---- threads: items are handed out in chunks; each item's result depends only on the item ---- */
+
+typedef void (*range_fn)(struct context *ctx, size_t begin, size_t end);
+
+struct job {
+    struct context *ctx;
+    range_fn fn;
+    size_t count, chunk;
+    atomic_size_t next;
+};
+
+static void *job_worker(void *arg)
+{
+    struct job *job = arg;
+    for (;;) {
+        size_t begin = atomic_fetch_add(&job->next, job->chunk);
+        if (begin >= job->count)
+            return NULL;
+        size_t end = begin + job->chunk < job->count ? begin + job->chunk : job->count;
+        job->fn(job->ctx, begin, end);
+    }
+}
+
+/* A thread that cannot be started only costs speed, never the result: the others take its share. */
+static void run_parallel(struct context *ctx, int threads, size_t count, size_t chunk, range_fn fn)
+{
+    struct job job = {.ctx = ctx, .fn = fn, .count = count, .chunk = chunk};
+    atomic_init(&job.next, 0);
+    pthread_t tid[MAX_THREADS];
+    int started = 0;
+    for (int i = 1; i < threads; i++)
+        if (pthread_create(&tid[started], NULL, job_worker, &job) == 0)
+            started++;
+    job_worker(&job);
+    for (int i = 0; i < started; i++)
+        pthread_join(tid[i], NULL);
+}
+
+static int thread_count(const struct reference_options *o)
+{
+    long n = o->threads > 0 ? o->threads : sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
+}
+
+/* ---- geometry ---- */
+
+static void tri_vertex(const struct lucent_mesh *m, uint32_t t, int k, double out[3])
+{
+    const float *p = &m->positions[(size_t)m->indices[(size_t)t * 3 + k] * 3];
+    out[0] = p[0], out[1] = p[1], out[2] = p[2];
+}
+
+/* Point, unit interpolated normal and unit geometric normal at barycentrics (b1, b2). The shading
+ * normal is turned to the side the winding says is outside (files may carry flipped normals). */
+static void surface_at(const struct lucent_mesh *m, uint32_t t, double b1, double b2, double p[3],
+                       double n[3], double g[3])
+{
+    double v[3][3], e1[3], e2[3], w[3] = {1.0 - b1 - b2, b1, b2};
+    for (int k = 0; k < 3; k++)
+        tri_vertex(m, t, k, v[k]);
+    for (int a = 0; a < 3; a++) {
+        e1[a] = v[1][a] - v[0][a];
+        e2[a] = v[2][a] - v[0][a];
+        p[a] = n[a] = 0.0;
+    }
+    v3_cross(e1, e2, g);
+    v3_normalize(g);
+    for (int k = 0; k < 3; k++) {
+        const float *vn = &m->normals[(size_t)m->indices[(size_t)t * 3 + k] * 3];
+        for (int a = 0; a < 3; a++) {
+            p[a] += w[k] * v[k][a];
+            n[a] += w[k] * vn[a];
+        }
+    }
+    double sign = v3_normalize(n) == 0.0 ? 0.0 : v3_dot(n, g) < 0.0 ? -1.0 : 1.0;
+    for (int a = 0; a < 3; a++)
+        n[a] = sign == 0.0 ? g[a] : sign * n[a];
+}
+
+/* ---- irradiance points ---- */
+
+static uint32_t triangle_at(const struct context *ctx, double u)
+{
+    uint32_t lo = 0, hi = ctx->mesh->triangle_count - 1;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (ctx->cum_area[mid] > u)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    return lo;
+}
+
+/* Light entering the surface at p: sum over lights of rgb * falloff * cos * Ft(cos), shadowed. */
+static void irradiance(const struct context *ctx, const double p[3], const double n[3], const double g[3],
+                       double e[3])
+{
+    double origin[3];
+    v3_scale_add(p, g, SHADOW_OFFSET * ctx->mesh->radius, origin);
+    e[0] = e[1] = e[2] = 0.0;
+    for (int l = 0; l < ctx->light_count; l++) {
+        const struct ref_light *light = &ctx->lights[l];
+        double dir[3], falloff = 1.0, t_max = INFINITY;
+        if (light->point) {
+            for (int a = 0; a < 3; a++)
+                dir[a] = light->vec[a] - p[a];
+            t_max = v3_normalize(dir);
+            falloff = 1.0 / fmax(t_max * t_max, DBL_MIN);
+        } else {
+            for (int a = 0; a < 3; a++)
+                dir[a] = -light->vec[a];
+        }
+        double cos_l = v3_dot(n, dir);
+        if (cos_l <= 0.0 || (ctx->shadows && bvh_occluded(ctx->bvh, origin, dir, t_max)))
+            continue;
+        double k = falloff * cos_l * fresnel_transmittance(ctx->eta, cos_l);
+        for (int c = 0; c < 3; c++)
+            e[c] += light->rgb[c] * k;
+    }
+}
+
+/* Point j sits at u_j = (j + 1/2) / N along the cumulative area; its position inside the chosen
+ * triangle is (s, frac(j / phi)) mapped area-preservingly (s = how far u_j is through the triangle). */
+static void make_points(struct context *ctx, size_t begin, size_t end)
+{
+    double n_inv = 1.0 / (double)ctx->point_count;
+    double area_mm2 = ctx->total_area * n_inv * ctx->scale_mm * ctx->scale_mm;
+    for (size_t j = begin; j < end; j++) {
+        double u = ((double)j + 0.5) * n_inv * ctx->total_area;
+        uint32_t t = triangle_at(ctx, u);
+        double before = t > 0 ? ctx->cum_area[t - 1] : 0.0, span = ctx->cum_area[t] - before;
+        double s = fmin(fmax((u - before) / span, 0.0), 1.0);
+        double v = fmod((double)j * GOLDEN_FRACTION, 1.0), r = sqrt(s);
+        double *p = &ctx->pos[j * 3], n[3], g[3], e[3];
+        surface_at(ctx->mesh, t, r * (1.0 - v), r * v, p, n, g);
+        irradiance(ctx, p, n, g, e);
+        for (int c = 0; c < 3; c++)
+            ctx->flux[j * 3 + c] = e[c] * area_mm2;
+    }
+}
+
+static lucent_status cumulative_area(struct context *ctx, lucent_error *err)
+{
+    const struct lucent_mesh *m = ctx->mesh;
+    ctx->cum_area = malloc((size_t)m->triangle_count * sizeof *ctx->cum_area);
+    if (!ctx->cum_area)
+        return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory for the areas of %u triangles",
+                           m->triangle_count);
+    double sum = 0.0;
+    for (uint32_t t = 0; t < m->triangle_count; t++) {
+        double v[3][3], e1[3], e2[3], c[3];
+        for (int k = 0; k < 3; k++)
+            tri_vertex(m, t, k, v[k]);
+        for (int a = 0; a < 3; a++) {
+            e1[a] = v[1][a] - v[0][a];
+            e2[a] = v[2][a] - v[0][a];
+        }
+        v3_cross(e1, e2, c);
+        sum += 0.5 * v3_length(c);
+        ctx->cum_area[t] = sum;
+    }
+    ctx->total_area = sum;
+    if (!(sum > 0.0))
+        return lucent_fail(err, LUCENT_E_MESH, "mesh", "the mesh has no surface area to light");
+    return LUCENT_OK;
+}
+
+static double min_mean_free_path(const struct context *ctx)
+{
+    double mfp = INFINITY;
+    for (int c = 0; c < 3; c++)
+        mfp = fmin(mfp, 1.0 / ctx->dipole[c].sigma_t_prime);
+    return mfp;
+}
+
+static lucent_status choose_point_count(struct context *ctx, uint32_t requested, lucent_error *err)
+{
+    if (requested > LUCENT_MAX_REFERENCE_POINTS)
+        return lucent_fail(err, LUCENT_E_LIMIT, "reference.points", "%u irradiance points requested; at most %u",
+                           requested, LUCENT_MAX_REFERENCE_POINTS);
+    if (requested > 0) {
+        ctx->point_count = requested;
+        return LUCENT_OK;
+    }
+    double spacing = AUTO_SPACING_MFP * min_mean_free_path(ctx);
+    double area_mm2 = ctx->total_area * ctx->scale_mm * ctx->scale_mm;
+    double n = area_mm2 / (spacing * spacing);
+    ctx->point_count = (size_t)fmin(fmax(n, AUTO_MIN_POINTS), AUTO_MAX_POINTS);
+    return LUCENT_OK;
+}
+
+/* ---- the point hierarchy ---- */
+
+static double point_key(const struct context *ctx, uint32_t i, int axis)
+{
+    return ctx->pos[(size_t)i * 3 + axis];
+}
+
+/* Moves the k-th smallest point (along axis) of ids[0..n) to position k, smaller ones before it. */
+static void select_nth(const struct context *ctx, uint32_t *ids, int64_t n, int64_t k, int axis)
+{
+    int64_t lo = 0, hi = n - 1;
+    while (lo < hi) {
+        double pivot = point_key(ctx, ids[lo + (hi - lo) / 2], axis);
+        int64_t i = lo, j = hi;
+        while (i <= j) {
+            while (point_key(ctx, ids[i], axis) < pivot)
+                i++;
+            while (point_key(ctx, ids[j], axis) > pivot)
+                j--;
+            if (i <= j) {
+                uint32_t tmp = ids[i];
+                ids[i++] = ids[j];
+                ids[j--] = tmp;
+            }
+        }
+        if (k <= j)
+            hi = j;
+        else if (k >= i)
+            lo = i;
+        else
+            return;
+    }
+}
+
+static void leaf_summary(const struct context *ctx, struct point_node *node)
+{
+    for (int a = 0; a < 3; a++)
+        node->lo[a] = DBL_MAX, node->hi[a] = -DBL_MAX;
+    double moment[3][3] = {{0}};
+    for (uint32_t i = node->first; i < node->first + node->count; i++) {
+        const double *p = &ctx->pos[(size_t)ctx->order[i] * 3], *f = &ctx->flux[(size_t)ctx->order[i] * 3];
+        for (int a = 0; a < 3; a++) {
+            node->lo[a] = fmin(node->lo[a], p[a]);
+            node->hi[a] = fmax(node->hi[a], p[a]);
+        }
+        for (int c = 0; c < 3; c++) {
+            node->flux[c] += f[c];
+            for (int a = 0; a < 3; a++)
+                moment[c][a] += f[c] * p[a];
+        }
+    }
+    for (int c = 0; c < 3; c++)
+        for (int a = 0; a < 3; a++)
+            node->centroid[c][a] = node->flux[c] > 0.0 ? moment[c][a] / node->flux[c]
+                                                       : 0.5 * (node->lo[a] + node->hi[a]);
+}
+
+static void merge_summary(struct point_node *node, const struct point_node *a, const struct point_node *b)
+{
+    for (int k = 0; k < 3; k++) {
+        node->lo[k] = fmin(a->lo[k], b->lo[k]);
+        node->hi[k] = fmax(a->hi[k], b->hi[k]);
+    }
+    for (int c = 0; c < 3; c++) {
+        node->flux[c] = a->flux[c] + b->flux[c];
+        for (int k = 0; k < 3; k++)
+            node->centroid[c][k] = node->flux[c] > 0.0
+                                       ? (a->flux[c] * a->centroid[c][k] + b->flux[c] * b->centroid[c][k]) / node->flux[c]
+                                       : 0.5 * (node->lo[k] + node->hi[k]);
+    }
+}
+
+static int widest_axis(const struct context *ctx, const uint32_t *ids, uint32_t count)
+{
+    double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+    for (uint32_t i = 0; i < count; i++)
+        for (int a = 0; a < 3; a++) {
+            lo[a] = fmin(lo[a], point_key(ctx, ids[i], a));
+            hi[a] = fmax(hi[a], point_key(ctx, ids[i], a));
+        }
+    int axis = 0;
+    for (int a = 1; a < 3; a++)
+        if (hi[a] - lo[a] > hi[axis] - lo[axis])
+            axis = a;
+    return axis;
+}
+
+/* Median split, depth-first layout; recursion depth is the tree depth (about log2(N / 8)). */
+static uint32_t build_points(struct context *ctx, uint32_t first, uint32_t count, int depth)
+{
+    uint32_t index = ctx->node_count++;
+    struct point_node *node = &ctx->nodes[index];
+    *node = (struct point_node){.first = first, .count = count};
+    if (count <= LEAF_POINTS || depth >= MAX_TREE_DEPTH) {
+        leaf_summary(ctx, node);
+    } else {
+        uint32_t half = count / 2;
+        select_nth(ctx, ctx->order + first, count, half, widest_axis(ctx, ctx->order + first, count));
+        uint32_t left = build_points(ctx, first, half, depth + 1);
+        uint32_t right = build_points(ctx, first + half, count - half, depth + 1);
+        node->first = right;
+        node->count = 0;
+        merge_summary(node, &ctx->nodes[left], &ctx->nodes[right]);
+    }
+    double diag[3] = {node->hi[0] - node->lo[0], node->hi[1] - node->lo[1], node->hi[2] - node->lo[2]};
+    node->extent = v3_length(diag);
+    return index;
+}
+
+/* Every split leaves at least LEAF_POINTS / 2 points per leaf, so N / 4 + 1 leaves at most. The points
+ * are then stored in leaf order so a leaf is a contiguous range. */
+static lucent_status build_point_tree(struct context *ctx, lucent_error *err)
+{
+    size_t n = ctx->point_count, max_nodes = 2 * (n / (LEAF_POINTS / 2) + 1);
+    ctx->order = malloc(n * sizeof *ctx->order);
+    ctx->nodes = malloc(max_nodes * sizeof *ctx->nodes);
+    double *pos = malloc(n * 3 * sizeof *pos), *flux = malloc(n * 3 * sizeof *flux);
+    if (!ctx->order || !ctx->nodes || !pos || !flux) {
+        free(pos);
+        free(flux);
+        return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory for the hierarchy of %zu irradiance points", n);
+    }
+    for (size_t i = 0; i < n; i++)
+        ctx->order[i] = (uint32_t)i;
+    build_points(ctx, 0, (uint32_t)n, 0);
+    for (size_t i = 0; i < n; i++)
+        for (int a = 0; a < 3; a++) {
+            pos[i * 3 + a] = ctx->pos[(size_t)ctx->order[i] * 3 + a];
+            flux[i * 3 + a] = ctx->flux[(size_t)ctx->order[i] * 3 + a];
+        }
+    free(ctx->pos);
+    free(ctx->flux);
+    ctx->pos = pos;
+    ctx->flux = flux;
+    return LUCENT_OK;
+}
+
+/* ---- radiance ---- */
+
+static double distance_mm(const struct context *ctx, const double a[3], const double b[3])
+{
+    double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    return v3_length(d) * ctx->scale_mm;
+}
+
+static void sum_points(const struct context *ctx, const double x[3], size_t first, size_t end, double sum[3])
+{
+    for (size_t i = first; i < end; i++) {
+        const double *f = &ctx->flux[i * 3];
+        if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0)
+            continue;
+        double r = distance_mm(ctx, x, &ctx->pos[i * 3]);
+        for (int c = 0; c < 3; c++)
+            sum[c] += f[c] * dipole_rd(&ctx->dipole[c], r);
+    }
+}
+
+static double box_distance(const struct point_node *n, const double x[3])
+{
+    double d2 = 0.0;
+    for (int a = 0; a < 3; a++) {
+        double d = fmax(fmax(n->lo[a] - x[a], x[a] - n->hi[a]), 0.0);
+        d2 += d * d;
+    }
+    return sqrt(d2);
+}
+
+/* Jensen & Buhler 2002: far nodes count as their flux at their centroid. A node holding x is at
+ * distance 0 and is always opened. */
+static void sum_tree(const struct context *ctx, const double x[3], double sum[3])
+{
+    uint32_t stack[MAX_TREE_DEPTH + 2];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        uint32_t index = stack[--top];
+        const struct point_node *node = &ctx->nodes[index];
+        if (node->flux[0] == 0.0 && node->flux[1] == 0.0 && node->flux[2] == 0.0)
+            continue;
+        if (node->extent < ctx->threshold * box_distance(node, x)) {
+            for (int c = 0; c < 3; c++)
+                if (node->flux[c] > 0.0)
+                    sum[c] += node->flux[c] * dipole_rd(&ctx->dipole[c], distance_mm(ctx, x, node->centroid[c]));
+        } else if (node->count > 0) {
+            sum_points(ctx, x, node->first, (size_t)node->first + node->count, sum);
+        } else {
+            stack[top++] = node->first;
+            stack[top++] = index + 1;
+        }
+    }
+}
+
+static void shade_pixel(struct context *ctx, int x, int y)
+{
+    const struct view_frame *cam = ctx->camera;
+    lucent_image *img = ctx->out;
+    double dir[3], p[3], n[3], g[3], sum[3] = {0.0, 0.0, 0.0};
+    struct bvh_hit hit;
+    view_frame_pixel_ray(cam, x, y, img->width, img->height, dir);
+    if (!bvh_closest(ctx->bvh, cam->eye, dir, INFINITY, &hit))
+        return;
+    surface_at(ctx->mesh, hit.triangle, hit.u, hit.v, p, n, g);
+    /* A back face in view (open mesh, or the eye inside): shade the side facing the camera, as the
+     * raster passes do with gl_FrontFacing. */
+    if (v3_dot(g, dir) > 0.0)
+        for (int a = 0; a < 3; a++)
+            n[a] = -n[a];
+    double facing = -v3_dot(n, dir);
+    if (ctx->brute_force)
+        sum_points(ctx, p, 0, ctx->point_count, sum);
+    else
+        sum_tree(ctx, p, sum);
+    double k = fresnel_transmittance(ctx->eta, facing) / PI;
+    size_t i = (size_t)y * img->width + x;
+    for (int c = 0; c < 3; c++)
+        img->rgba[i * 4 + c] = (float)(sum[c] * k);
+    img->rgba[i * 4 + 3] = 1.0f;
+    if (!img->depth)
+        return;
+    img->depth[i] = (float)hit.t;
+    for (int a = 0; a < 3; a++)
+        img->normal[i * 3 + a] = (float)n[a];
+    img->view[i] = 0.0f;
+    img->facing[i] = (float)facing;
+}
+
+static void shade_rows(struct context *ctx, size_t begin, size_t end)
+{
+    for (size_t y = begin; y < end; y++)
+        for (int x = 0; x < ctx->out->width; x++)
+            shade_pixel(ctx, x, (int)y);
+}
+
+/* ---- set-up ---- */
+
+static lucent_status check_inputs(const lucent_scene *scene, const struct lucent_mesh *mesh, double scale_mm,
+                                  const struct reference_options *o, lucent_error *err)
+{
+    if (!mesh || mesh->triangle_count == 0)
+        return lucent_fail(err, LUCENT_E_MESH, "mesh", "the mesh has no triangles to render");
+    if (!(scale_mm >= LUCENT_MIN_SCALE_MM && scale_mm <= LUCENT_MAX_SCALE_MM))
+        return lucent_fail(err, LUCENT_E_LIMIT, "scale_mm", "scale_mm is %g; must be between %g and %g",
+                           scale_mm, LUCENT_MIN_SCALE_MM, LUCENT_MAX_SCALE_MM);
+    if (!(o->threshold >= 0.0 && o->threshold <= 1.0))
+        return lucent_fail(err, LUCENT_E_INVALID, "reference.threshold",
+                           "threshold is %g; must be between 0 and 1 (node size / distance)", o->threshold);
+    if (scene->light_count < 0 || scene->light_count > LUCENT_MAX_LIGHTS)
+        return lucent_fail(err, LUCENT_E_LIMIT, "lights", "%d lights; at most %d", scene->light_count,
+                           LUCENT_MAX_LIGHTS);
+    if (!(scene->material.eta >= LUCENT_MIN_ETA))
+        return lucent_fail(err, LUCENT_E_INVALID, "material.eta", "eta is %g; must be at least %g",
+                           scene->material.eta, LUCENT_MIN_ETA);
+    return LUCENT_OK;
+}
+
+static lucent_status set_up_lights(struct context *ctx, lucent_error *err)
+{
+    const lucent_scene *s = ctx->scene;
+    ctx->light_count = s->light_count;
+    for (int l = 0; l < s->light_count; l++) {
+        const lucent_light *in = &s->lights[l];
+        struct ref_light *out = &ctx->lights[l];
+        out->point = in->type == LUCENT_LIGHT_POINT;
+        for (int a = 0; a < 3; a++) {
+            out->vec[a] = out->point ? in->position[a] - ctx->mesh->center[a] : in->direction[a];
+            out->rgb[a] = in->color[a] * in->intensity;
+        }
+        if (!out->point && v3_normalize(out->vec) == 0.0)
+            return lucent_fail(err, LUCENT_E_INVALID, "lights.direction", "light %d has a zero direction", l);
+    }
+    return LUCENT_OK;
+}
+
+static lucent_status alloc_points(struct context *ctx, lucent_error *err)
+{
+    ctx->pos = malloc(ctx->point_count * 3 * sizeof *ctx->pos);
+    ctx->flux = malloc(ctx->point_count * 3 * sizeof *ctx->flux);
+    if (!ctx->pos || !ctx->flux)
+        return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory for %zu irradiance points", ctx->point_count);
+    return LUCENT_OK;
+}
+
+static void free_context(struct context *ctx)
+{
+    bvh_free(ctx->bvh);
+    free(ctx->cum_area);
+    free(ctx->pos);
+    free(ctx->flux);
+    free(ctx->nodes);
+    free(ctx->order);
+}
+
+/* Fitted to measurements (test_reference prints estimate and error side by side):
+ * - point quadrature: inside a triangle the points form a lattice and the sum of R_d over them is
+ *   near exact; where two triangles' lattices meet (the worst place, measured on the square's
+ *   diagonal) the error falls as exp(-2.75 z_r / h) for spacing h, z_r = 1 mfp: 1e-2 at h = 0.6 mfp,
+ *   1e-4 at h = 0.3 mfp, 0.17 at h = 1.9 mfp;
+ * - hierarchy: a node used whole errs by the second-order term of R_d across it, below
+ *   threshold^2, and only far nodes are used whole: measured rel. L2 against brute force stays
+ *   under 0.03 threshold^2 (1.2e-3 at 0.2). */
+static double estimated_error(double spacing_mm, double mfp_mm, double threshold)
+{
+    return exp(-2.75 * mfp_mm / spacing_mm) + 0.03 * threshold * threshold;
+}
+
+lucent_status reference_render(const lucent_scene *scene, const struct lucent_mesh *mesh,
+                               const struct view_frame *camera, double scale_mm,
+                               const struct reference_options *options, int with_aovs, lucent_image *out,
+                               struct reference_report *report, lucent_error *err)
+{
+    struct context ctx = {.scene = scene, .mesh = mesh, .camera = camera, .scale_mm = scale_mm,
+                          .eta = scene->material.eta, .out = out, .brute_force = options->brute_force,
+                          .threshold = options->threshold > 0.0 ? options->threshold : DEFAULT_THRESHOLD};
+    *report = (struct reference_report){0};
+    *out = (lucent_image){0};
+    lucent_status st = check_inputs(scene, mesh, scale_mm, options, err);
+    if (st != LUCENT_OK)
+        return st;
+    if ((st = lucent_image_alloc(out, scene->width, scene->height, with_aovs, err)) != LUCENT_OK)
+        return st;
+    for (int c = 0; c < 3; c++)
+        dipole_init(&ctx.dipole[c], scene->material.sigma_a[c], scene->material.sigma_s_prime[c], ctx.eta);
+    /* Convex meshes cannot shadow themselves; a shadow ray there would only darken the terminator
+     * where interpolated normals face the light and flat facets do not (the raster pass skips too). */
+    ctx.shadows = !mesh->convex;
+    int threads = thread_count(options);
+    double t0 = now_ms();
+    if ((st = set_up_lights(&ctx, err)) || (st = cumulative_area(&ctx, err)) ||
+        (st = choose_point_count(&ctx, options->points, err)) || (st = bvh_build(mesh, &ctx.bvh, err)) ||
+        (st = alloc_points(&ctx, err)))
+        goto fail;
+    run_parallel(&ctx, threads, ctx.point_count, 1024, make_points);
+    if (!ctx.brute_force && (st = build_point_tree(&ctx, err)) != LUCENT_OK)
+        goto fail;
+    double t1 = now_ms();
+    run_parallel(&ctx, threads, (size_t)out->height, 1, shade_rows);
+    double area_mm2 = ctx.total_area * scale_mm * scale_mm;
+    report->points = (uint32_t)ctx.point_count;
+    report->point_spacing_mm = sqrt(area_mm2 / (double)ctx.point_count);
+    report->min_mean_free_path_mm = min_mean_free_path(&ctx);
+    report->threshold = ctx.brute_force ? 0.0 : ctx.threshold;
+    report->estimated_rel_error =
+        estimated_error(report->point_spacing_mm, report->min_mean_free_path_mm, report->threshold);
+    report->ms_points = t1 - t0;
+    report->ms_pixels = now_ms() - t1;
+    free_context(&ctx);
+    return LUCENT_OK;
+fail:
+    free_context(&ctx);
+    lucent_image_free(out);
+    return st;
+}
