@@ -49,6 +49,17 @@ double dipole_rd_total(const struct dipole *d)
     return 0.5 * d->alpha_prime * (1.0 + exp(-4.0 / 3.0 * a * s)) * exp(-s);
 }
 
+static double disc_term(double z, double sigma_tr, double radius)
+{
+    double dist = sqrt(radius * radius + z * z);
+    return exp(-sigma_tr * z) - z * exp(-sigma_tr * dist) / dist;
+}
+
+double dipole_rd_disc(const struct dipole *d, double radius)
+{
+    return 0.5 * d->alpha_prime * (disc_term(d->z_r, d->sigma_tr, radius) + disc_term(d->z_v, d->sigma_tr, radius));
+}
+
 double fresnel_transmittance(double eta, double cos_i)
 {
     double c = fmin(fmax(cos_i, 0.0), 1.0);

@@ -17,6 +17,10 @@ double dipole_boundary_a(double eta);          /* A = (1 + F_dr) / (1 - F_dr) */
 void dipole_init(struct dipole *d, double sigma_a, double sigma_s_prime, double eta);
 double dipole_rd(const struct dipole *d, double r);   /* R_d(r), mm^-2 */
 double dipole_rd_total(const struct dipole *d);       /* closed-form plane integral of R_d */
+/* Integral of R_d over a disc of the given radius (mm) around the exit point: the closed form
+ * (alpha'/2) sum over z in {z_r, z_v} of (e^(-sigma_tr z) - z e^(-sigma_tr D) / D), D = sqrt(radius^2 + z^2),
+ * which tends to dipole_rd_total as the radius grows. */
+double dipole_rd_disc(const struct dipole *d, double radius);
 /* Unpolarized Fresnel transmittance 1 - F_r entering a medium of relative index eta >= 1
  * at incidence cosine cos_i (clamped to [0,1]). */
 double fresnel_transmittance(double eta, double cos_i);

@@ -103,6 +103,23 @@ static void energy_conservation(void)
     }
 }
 
+/* The disc integral's closed form against the numerical table, and its limit. */
+static void disc_integral(void)
+{
+    struct dipole d;
+    double radii[1], weights[1];
+    dipole_init(&d, 0.032, 0.74, 1.3);
+    const double r[] = {0.1, 1.0, 5.0};
+    for (int i = 0; i < 3; i++) {
+        char what[64];
+        snprintf(what, sizeof what, "Skin1 red disc integral to %.1f mm", r[i]);
+        check_close(what, dipole_rd_disc(&d, r[i]), dipole_sample_radii(&d, r[i], 1, radii, weights), 1e-3);
+    }
+    check_close("disc integral to 1e6 mm = R_d total", dipole_rd_disc(&d, 1e6), dipole_rd_total(&d), 1e-9);
+    dipole_init(&d, 0.0, 1e4, 1.0);
+    check("disc integral finite for sigma_a = 0, sigma_s' = 1e4", isfinite(dipole_rd_disc(&d, 1e-3)));
+}
+
 static void extremes(void)
 {
     struct dipole d;
@@ -169,6 +186,7 @@ static void mixture_quadrature(void)
 int main(void)
 {
     mixture_quadrature();
+    disc_integral();
     boundary_terms();
     skin1_profile();
     preset_reflectance();
