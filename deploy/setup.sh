@@ -18,6 +18,7 @@ packages=(
   libmeshoptimizer-dev
   libopenimageio-dev openimageio-tools
   libmicrohttpd-dev libcurl4-openssl-dev
+  gnuplot-nox
   nodejs
 )
 

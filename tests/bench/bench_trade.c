@@ -1,0 +1,444 @@
+/* bench_trade.c - the measured speed/accuracy trade: every fast mode timed warm and scored against method
+ * "reference" over 4 meshes x 3 lights x 4 materials x 2 sizes; writes CSV, Markdown and a plot table. */
+#include "lucent.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define N(a) (sizeof(a) / sizeof((a)[0]))
+
+struct mesh_case {
+    const char *name;
+    const char *json;  /* mesh object; NULL: the OBJ named on the command line */
+};
+struct light_case {
+    const char *name;
+    const char *direction;  /* the way the light travels; the camera looks along -Z from +Z */
+};
+/* A mode is a scene fragment added to the case; one line here adds it everywhere. */
+struct mode {
+    const char *name;
+    const char *json;
+};
+
+enum { MESH_SPHERE, MESH_TORUS, MESH_PROTRUSION, MESH_BUNNY };
+enum { LIGHT_FRONT, LIGHT_SIDE, LIGHT_BACK };
+static const struct mesh_case meshes[] = {[MESH_SPHERE] = {"sphere", "{\"builtin\":\"sphere\"}"},
+                                          [MESH_TORUS] = {"torus", "{\"builtin\":\"torus\"}"},
+                                          [MESH_PROTRUSION] = {"protrusion", "{\"builtin\":\"protrusion\"}"},
+                                          [MESH_BUNNY] = {"bunny", NULL}};
+static const struct light_case lights[] = {[LIGHT_FRONT] = {"front", "[0,0,-1]"},
+                                           [LIGHT_SIDE] = {"side", "[-1,0,0]"},
+                                           [LIGHT_BACK] = {"back", "[0,0,1]"}};
+static const char *const materials[] = {"marble", "skin1", "skimmilk", "ketchup"};
+static const int sizes[] = {256, 512};
+static const struct mode modes[] = {
+    {"single", "\"method\":\"single\""},
+    {"five", "\"method\":\"five\""},
+    {"five per_channel", "\"method\":\"five\",\"sampling\":\"per_channel\""},
+    {"five samples 4", "\"method\":\"five\",\"samples\":4"},
+    {"five samples 8", "\"method\":\"five\",\"samples\":8"},
+    {"five samples 32", "\"method\":\"five\",\"samples\":32"},
+    {"five samples 64", "\"method\":\"five\",\"samples\":64"},
+    {"five projection 128", "\"method\":\"five\",\"projection_size\":128"},
+    {"five projection 256", "\"method\":\"five\",\"projection_size\":256"},
+    {"five projection 1024", "\"method\":\"five\",\"projection_size\":1024"},
+    {"single samples 64", "\"method\":\"single\",\"samples\":64"},
+};
+
+enum { MODES = (int)N(modes), CASES_PER_SIZE = (int)(N(meshes) * N(lights) * N(materials)) };
+enum { T_TOTAL, T_SHADOW, T_PROJECTION, T_GBUFFER, T_SCATTER, T_READBACK, T_COUNT };
+
+struct options {
+    const char *bunny, *prefix;
+    int frames, size_count;
+};
+
+struct case_id {
+    int size, mesh, light, material;
+};
+
+struct result {
+    double ms[T_COUNT];  /* medians over the timed frames */
+    lucent_image_error e;
+};
+
+/* One mode at one size, summarized over every case. */
+struct summary {
+    double ms, rel_l2, band_rel_l2;
+    int worst, worst_band;  /* case indices */
+    int pareto;
+};
+
+struct outputs {
+    FILE *csv, *md, *tsv;
+};
+
+static struct case_id case_of(int index)
+{
+    struct case_id c;
+    c.material = index % (int)N(materials);
+    index /= (int)N(materials);
+    c.light = index % (int)N(lights);
+    index /= (int)N(lights);
+    c.mesh = index % (int)N(meshes);
+    c.size = index / (int)N(meshes);
+    return c;
+}
+
+static int case_index(int size, int mesh, int light, int material)
+{
+    return ((size * (int)N(meshes) + mesh) * (int)N(lights) + light) * (int)N(materials) + material;
+}
+
+static void case_label(int index, char *buf, size_t cap)
+{
+    struct case_id c = case_of(index);
+    snprintf(buf, cap, "%s %s %s", meshes[c.mesh].name, lights[c.light].name, materials[c.material]);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+static int usage(void)
+{
+    fprintf(stderr, "usage: bench_trade [--quick] [--frames F] BUNNY.obj OUT_PREFIX\n"
+                    "  writes OUT_PREFIX.csv, OUT_PREFIX.md and OUT_PREFIX_summary.tsv (for plot_trade.sh);\n"
+                    "  --quick: 256x256 only (default 256 and 512); F: timed warm frames per mode (default 5)\n");
+    return 2;
+}
+
+static int parse_options(int argc, char **argv, struct options *o)
+{
+    *o = (struct options){.frames = 5, .size_count = (int)N(sizes)};
+    int positional = 0;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--quick") == 0) {
+            o->size_count = 1;
+        } else if (strcmp(argv[i], "--frames") == 0 && i + 1 < argc) {
+            char *end;
+            long f = strtol(argv[++i], &end, 10);
+            if (*end || f < 1 || f > 1000)
+                return -1;
+            o->frames = (int)f;
+        } else if (positional == 0) {
+            o->bunny = argv[i], positional++;
+        } else if (positional == 1) {
+            o->prefix = argv[i], positional++;
+        } else {
+            return -1;
+        }
+    }
+    return positional == 2 ? 0 : -1;
+}
+
+/* The scene of one case with the given fragment ("method" and knobs); the bunny's path is set after
+ * parsing so no path needs JSON escaping. */
+static lucent_status make_scene(const struct options *o, struct case_id c, const char *fragment, lucent_scene *s,
+                                lucent_error *err)
+{
+    const char *mesh = meshes[c.mesh].json ? meshes[c.mesh].json : "{\"builtin\":\"sphere\"}";
+    char json[1024];
+    int n = snprintf(json, sizeof json,
+                     "{\"mesh\":%s,\"material\":{\"preset\":\"%s\"},\"lights\":[{\"direction\":%s,\"intensity\":3}],"
+                     "\"width\":%d,\"height\":%d,%s}",
+                     mesh, materials[c.material], lights[c.light].direction, sizes[c.size], sizes[c.size], fragment);
+    if (n < 0 || (size_t)n >= sizeof json)
+        return lucent_fail(err, LUCENT_E_INTERNAL, "", "scene document too long");
+    lucent_status st = lucent_scene_parse(json, (size_t)n, 1, s, err);
+    if (st != LUCENT_OK || meshes[c.mesh].json)
+        return st;
+    s->mesh.source = LUCENT_MESH_FILE;
+    snprintf(s->mesh.file, sizeof s->mesh.file, "%s", o->bunny);
+    return LUCENT_OK;
+}
+
+static void record_frame(const lucent_stats *st, double *t, int frames, int f)
+{
+    double v[T_COUNT] = {st->ms_total - st->ms_mesh_load, st->ms_shadow, st->ms_projection, st->ms_gbuffer,
+                         st->ms_scatter, st->ms_readback};
+    for (int k = 0; k < T_COUNT; k++)
+        t[k * frames + f] = v[k];
+}
+
+/* One warm-up frame, then `frames` timed ones; the last is scored against ref. */
+static lucent_status measure(lucent_renderer *r, const lucent_scene *s, int frames, const lucent_image *ref,
+                             struct result *out, lucent_error *err)
+{
+    double *t = calloc((size_t)frames * T_COUNT, sizeof *t);
+    if (!t)
+        return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory for %d frame times", frames);
+    lucent_status st = LUCENT_OK;
+    for (int f = -1; f < frames && st == LUCENT_OK; f++) {
+        lucent_image img;
+        lucent_stats stats;
+        st = lucent_render(r, s, &img, &stats, err);
+        if (st != LUCENT_OK)
+            break;
+        if (f >= 0)
+            record_frame(&stats, t, frames, f);
+        if (f == frames - 1)
+            st = lucent_image_compare(&img, ref, &out->e, err);
+        lucent_image_free(&img);
+    }
+    for (int k = 0; k < T_COUNT && st == LUCENT_OK; k++)
+        out->ms[k] = median(t + k * frames, frames);
+    free(t);
+    return st;
+}
+
+static void write_csv_row(FILE *csv, int index, int mode, const struct result *x)
+{
+    struct case_id c = case_of(index);
+    const lucent_image_error *e = &x->e;
+    fprintf(csv,
+            "%s,%s,%s,%d,%s,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.6g,%.6g,%.6g,%.6g,"
+            "%.6g\n",
+            meshes[c.mesh].name, lights[c.light].name, materials[c.material], sizes[c.size], modes[mode].name,
+            x->ms[T_TOTAL], x->ms[T_SHADOW], x->ms[T_PROJECTION], x->ms[T_GBUFFER], x->ms[T_SCATTER],
+            x->ms[T_READBACK], e->pixels, e->coverage_mismatch, e->rel_l2, e->mean_abs, e->max_abs, e->p99_rel,
+            e->share_over_10pct, e->band_pixels, e->band_rel_l2, e->band_mean_abs, e->band_max_abs, e->band_p99_rel,
+            e->band_share_over_10pct);
+}
+
+/* Renders the reference of one case, then every mode; rows go to the CSV as they are measured. */
+static lucent_status run_case(lucent_renderer *r, const struct options *o, int index, struct result *row, FILE *csv,
+                              lucent_error *err)
+{
+    struct case_id c = case_of(index);
+    lucent_scene s;
+    lucent_image ref;
+    lucent_stats stats;
+    lucent_status st = make_scene(o, c, "\"method\":\"reference\",\"format\":\"exr\"", &s, err);
+    if (st == LUCENT_OK)
+        st = lucent_render(r, &s, &ref, &stats, err);
+    if (st != LUCENT_OK)
+        return st;
+    char label[128];
+    case_label(index, label, sizeof label);
+    fprintf(stderr, "bench_trade: %d %s: reference %.0f ms\n", sizes[c.size], label, stats.ms_total);
+    for (int m = 0; m < MODES && st == LUCENT_OK; m++) {
+        st = make_scene(o, c, modes[m].json, &s, err);
+        if (st == LUCENT_OK)
+            st = measure(r, &s, o->frames, &ref, &row[m], err);
+        if (st == LUCENT_OK)
+            write_csv_row(csv, index, m, &row[m]);
+    }
+    fflush(csv);
+    lucent_image_free(&ref);
+    return st;
+}
+
+static int worse(const struct result *res, int a, int b, int mode, int band)
+{
+    const lucent_image_error *x = &res[a * MODES + mode].e, *y = &res[b * MODES + mode].e;
+    return band ? x->band_rel_l2 > y->band_rel_l2 : x->rel_l2 > y->rel_l2;
+}
+
+static struct summary summarize(const struct result *res, int size, int mode, double *scratch)
+{
+    struct summary s = {0};
+    int first = case_index(size, 0, 0, 0);
+    s.worst = s.worst_band = first;
+    double *v[3] = {scratch, scratch + CASES_PER_SIZE, scratch + 2 * CASES_PER_SIZE};
+    for (int i = 0; i < CASES_PER_SIZE; i++) {
+        const struct result *x = &res[(first + i) * MODES + mode];
+        v[0][i] = x->ms[T_TOTAL], v[1][i] = x->e.rel_l2, v[2][i] = x->e.band_rel_l2;
+        s.worst = worse(res, first + i, s.worst, mode, 0) ? first + i : s.worst;
+        s.worst_band = worse(res, first + i, s.worst_band, mode, 1) ? first + i : s.worst_band;
+    }
+    s.ms = median(v[0], CASES_PER_SIZE);
+    s.rel_l2 = median(v[1], CASES_PER_SIZE);
+    s.band_rel_l2 = median(v[2], CASES_PER_SIZE);
+    return s;
+}
+
+/* Pareto front on (median ms, median rel L2): no other mode is at least as fast and as accurate and
+ * strictly better in one. */
+static void mark_pareto(struct summary *s)
+{
+    for (int i = 0; i < MODES; i++) {
+        s[i].pareto = 1;
+        for (int j = 0; j < MODES; j++)
+            if (s[j].ms <= s[i].ms && s[j].rel_l2 <= s[i].rel_l2 && (s[j].ms < s[i].ms || s[j].rel_l2 < s[i].rel_l2))
+                s[i].pareto = 0;
+    }
+}
+
+#if defined(__GNUC__)
+__attribute__((format(printf, 2, 3)))
+#endif
+static void emit(FILE *md, const char *fmt, ...)
+{
+    va_list a, b;
+    va_start(a, fmt);
+    va_copy(b, a);
+    vfprintf(stdout, fmt, a);
+    vfprintf(md, fmt, b);
+    va_end(b);
+    va_end(a);
+}
+
+static void write_summary(const struct result *res, const struct summary *s, int size, const struct outputs *out)
+{
+    char worst[128], worst_band[128];
+    emit(out->md, "\n### %dx%d\n\n| mode | median ms | median rel L2 | median band rel L2 | worst rel L2 (case) "
+                  "| worst band rel L2 (case) | Pareto |\n|---|---|---|---|---|---|---|\n",
+         sizes[size], sizes[size]);
+    for (int m = 0; m < MODES; m++) {
+        case_label(s[m].worst, worst, sizeof worst);
+        case_label(s[m].worst_band, worst_band, sizeof worst_band);
+        emit(out->md, "| %s | %.1f | %.4f | %.4f | %.4f (%s) | %.4f (%s) | %s |\n", modes[m].name, s[m].ms,
+             s[m].rel_l2, s[m].band_rel_l2, res[s[m].worst * MODES + m].e.rel_l2, worst,
+             res[s[m].worst_band * MODES + m].e.band_rel_l2, worst_band, s[m].pareto ? "yes" : "");
+        fprintf(out->tsv, "%d\t%s\t%.3f\t%.6g\t%.6g\t%d\n", sizes[size], modes[m].name, s[m].ms, s[m].rel_l2,
+                s[m].band_rel_l2, s[m].pareto);
+    }
+}
+
+static int mode_named(const char *name)
+{
+    for (int m = 0; m < MODES; m++)
+        if (strcmp(modes[m].name, name) == 0)
+            return m;
+    return -1;
+}
+
+/* The paper's claim: five projection images fix the silhouette band that one image gets wrong on
+ * side-lit protrusions. Band rel L2 of five vs single on the side-lit protrusion and bunny. */
+static void write_claim(const struct options *o, const struct result *res, const struct outputs *out)
+{
+    static const int claim_meshes[] = {MESH_PROTRUSION, MESH_BUNNY};
+    const int one = mode_named("single"), five = mode_named("five");
+    char misses[1024] = "";
+    size_t used = 0;
+    emit(out->md, "\n### The paper's claim: five views beat one at the silhouette under a side light\n\n"
+                  "| size | case | single band rel L2 | five band rel L2 | five/single | single rel L2 | five rel L2 "
+                  "| five beats single (band) |\n|---|---|---|---|---|---|---|---|\n");
+    for (int z = 0; z < o->size_count; z++)
+        for (size_t k = 0; k < N(claim_meshes); k++)
+            for (int mat = 0; mat < (int)N(materials); mat++) {
+                int i = case_index(z, claim_meshes[k], LIGHT_SIDE, mat);
+                const lucent_image_error *a = &res[i * MODES + one].e, *b = &res[i * MODES + five].e;
+                int beats = b->band_rel_l2 < a->band_rel_l2;
+                char label[128];
+                case_label(i, label, sizeof label);
+                emit(out->md, "| %d | %s | %.4f | %.4f | %.2f | %.4f | %.4f | %s |\n", sizes[z], label,
+                     a->band_rel_l2, b->band_rel_l2, b->band_rel_l2 / a->band_rel_l2, a->rel_l2, b->rel_l2,
+                     beats ? "yes" : "**no**");
+                if (!beats && used < sizeof misses)
+                    used += (size_t)snprintf(misses + used, sizeof misses - used, "%s%s at %d", used ? "; " : "",
+                                             label, sizes[z]);
+            }
+    if (used)
+        emit(out->md, "\nFive views do NOT beat one in the silhouette band for: %s.\n", misses);
+    else
+        emit(out->md, "\nFive views beat one in the silhouette band in every one of these cases.\n");
+}
+
+static void write_report(const struct options *o, const struct result *res, const struct outputs *out,
+                         double *scratch)
+{
+    emit(out->md, "## Speed/accuracy trade against method \"reference\"\n\n"
+                  "Per mode: median over %d cases (4 meshes x 3 lights x 4 materials) of the warm frame time "
+                  "(median of %d frames after 1 warm-up) and of the relative L2 error, whole object and "
+                  "silhouette band (normal 70-90 degrees from the view); worst case; on the Pareto front of "
+                  "(median ms, median rel L2).\n",
+         CASES_PER_SIZE, o->frames);
+    fprintf(out->tsv, "size\tmode\tms\trel_l2\tband_rel_l2\tpareto\n");
+    for (int z = 0; z < o->size_count; z++) {
+        struct summary s[MODES];
+        for (int m = 0; m < MODES; m++)
+            s[m] = summarize(res, z, m, scratch);
+        mark_pareto(s);
+        write_summary(res, s, z, out);
+    }
+    write_claim(o, res, out);
+}
+
+static int open_outputs(const char *prefix, struct outputs *out)
+{
+    static const char *const suffix[3] = {".csv", ".md", "_summary.tsv"};
+    FILE **f[3] = {&out->csv, &out->md, &out->tsv};
+    char path[4096];
+    for (int i = 0; i < 3; i++) {
+        snprintf(path, sizeof path, "%s%s", prefix, suffix[i]);
+        if (!(*f[i] = fopen(path, "w"))) {
+            perror(path);
+            return -1;
+        }
+    }
+    fprintf(out->csv, "scene,light,material,size,mode,ms,ms_shadow,ms_projection,ms_gbuffer,ms_scatter,ms_readback,"
+                      "pixels,coverage_mismatch,rel_l2,mean_abs,max_abs,p99_rel,share_over_10pct,band_pixels,"
+                      "band_rel_l2,band_mean_abs,band_max_abs,band_p99_rel,band_share_over_10pct\n");
+    return 0;
+}
+
+/* Closes every output; -1 if any failed to open or write. */
+static int close_outputs(struct outputs *out)
+{
+    FILE *f[3] = {out->csv, out->md, out->tsv};
+    int rc = 0;
+    for (int i = 0; i < 3; i++)
+        if (f[i] && (ferror(f[i]) | fclose(f[i])))
+            rc = -1;
+    return rc;
+}
+
+static int run(lucent_renderer *r, const struct options *o, struct result *res, const struct outputs *out)
+{
+    lucent_error err = {0};
+    for (int i = 0; i < o->size_count * CASES_PER_SIZE; i++)
+        if (run_case(r, o, i, &res[i * MODES], out->csv, &err) != LUCENT_OK) {
+            char label[128];
+            case_label(i, label, sizeof label);
+            fprintf(stderr, "bench_trade: %d %s: %s%s%s\n", sizes[case_of(i).size], label, err.field,
+                    err.field[0] ? ": " : "", err.message);
+            return -1;
+        }
+    double scratch[3 * CASES_PER_SIZE];
+    write_report(o, res, out, scratch);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    struct options o;
+    if (parse_options(argc, argv, &o) != 0)
+        return usage();
+    if (strlen(o.bunny) >= sizeof(((lucent_mesh_ref *)0)->file)) {
+        fprintf(stderr, "bench_trade: mesh path too long: %s\n", o.bunny);
+        return 2;
+    }
+    struct outputs out = {0};
+    struct result *res = calloc((size_t)o.size_count * CASES_PER_SIZE * MODES, sizeof *res);
+    lucent_error err = {0};
+    lucent_renderer_desc desc = {.verbose = 0};
+    lucent_renderer *r = NULL;
+    int rc = 1;
+    if (!res)
+        fprintf(stderr, "bench_trade: out of memory\n");
+    else if (!(r = lucent_renderer_create(&desc, &err)))
+        fprintf(stderr, "bench_trade: %s\n", err.message);
+    else if (open_outputs(o.prefix, &out) == 0 && run(r, &o, res, &out) == 0)
+        rc = 0;
+    if (close_outputs(&out) != 0 && rc == 0) {
+        fprintf(stderr, "bench_trade: writing %s.* failed\n", o.prefix);
+        rc = 1;
+    }
+    lucent_renderer_destroy(r);
+    free(res);
+    lucent_shutdown();
+    return rc;
+}
