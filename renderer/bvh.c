@@ -60,8 +60,7 @@ static void prepare_triangles(const struct lucent_mesh *m, struct builder *b)
     }
 }
 
-/* Moves the k-th smallest centroid (along axis) of ids[0..n) to position k, smaller ones before it. */
-static void select_nth(uint32_t *ids, int64_t n, int64_t k, const double *centroid, int axis)
+void bvh_select_nth(uint32_t *ids, int64_t n, int64_t k, const double *centroid, int axis)
 {
     int64_t lo = 0, hi = n - 1;
     while (lo < hi) {
@@ -129,7 +128,7 @@ static void build_node(struct builder *b, uint32_t first, uint32_t count, int de
     }
     int axis = widest_centroid_axis(b, first, count);
     uint32_t half = count / 2;
-    select_nth(b->ids + first, count, half, b->centroid, axis);
+    bvh_select_nth(b->ids + first, count, half, b->centroid, axis);
     build_node(b, first, half, depth + 1);
     /* nodes may not move: the array was sized for the worst case up front. */
     b->bvh->nodes[index].first = b->bvh->node_count;

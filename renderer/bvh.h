@@ -27,4 +27,8 @@ int bvh_closest(const struct bvh *bvh, const double origin[3], const double dir[
 /* 1 when any triangle is hit with 0 < t < t_max. */
 int bvh_occluded(const struct bvh *bvh, const double origin[3], const double dir[3], double t_max);
 
+/* Median split shared by the BVH and the reference's point tree: moves the id whose point (3 doubles
+ * per id in xyz) is k-th smallest along axis to ids[k], smaller ones before it (quickselect). */
+void bvh_select_nth(uint32_t *ids, int64_t n, int64_t k, const double *xyz, int axis);
+
 #endif

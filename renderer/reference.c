@@ -282,32 +282,6 @@ static double point_key(const struct context *ctx, uint32_t i, int axis)
 }
 
 /* Moves the k-th smallest point (along axis) of ids[0..n) to position k, smaller ones before it. */
-static void select_nth(const struct context *ctx, uint32_t *ids, int64_t n, int64_t k, int axis)
-{
-    int64_t lo = 0, hi = n - 1;
-    while (lo < hi) {
-        double pivot = point_key(ctx, ids[lo + (hi - lo) / 2], axis);
-        int64_t i = lo, j = hi;
-        while (i <= j) {
-            while (point_key(ctx, ids[i], axis) < pivot)
-                i++;
-            while (point_key(ctx, ids[j], axis) > pivot)
-                j--;
-            if (i <= j) {
-                uint32_t tmp = ids[i];
-                ids[i++] = ids[j];
-                ids[j--] = tmp;
-            }
-        }
-        if (k <= j)
-            hi = j;
-        else if (k >= i)
-            lo = i;
-        else
-            return;
-    }
-}
-
 static void leaf_summary(const struct context *ctx, struct point_node *node)
 {
     for (int a = 0; a < 3; a++)
@@ -371,7 +345,7 @@ static uint32_t build_points(struct context *ctx, uint32_t first, uint32_t count
         leaf_summary(ctx, node);
     } else {
         uint32_t half = count / 2;
-        select_nth(ctx, ctx->order + first, count, half, widest_axis(ctx, ctx->order + first, count));
+        bvh_select_nth(ctx->order + first, count, half, ctx->pos, widest_axis(ctx, ctx->order + first, count));
         uint32_t left = build_points(ctx, first, half, depth + 1);
         uint32_t right = build_points(ctx, first + half, count - half, depth + 1);
         node->first = right;

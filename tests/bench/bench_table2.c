@@ -1,6 +1,7 @@
 /* bench_table2.c - the paper's Table 2 on this machine: the six triangle counts at 512x512 with
  * "single" and "five" (shared sampling, the default) and "five" with the paper's per-channel sampling
  * (48 fetches a pixel), warm, median of N frames, beside the paper's FPS-1 / FPS-2. Not a test. */
+#include "bench_median.h"
 #include "lucent.h"
 
 #include <stdio.h>
@@ -24,18 +25,6 @@ struct measure {
     double median[T_COUNT];
     uint32_t triangles, proxy_triangles;
 };
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 static int measure(lucent_renderer *r, uint32_t triangles, lucent_method method, lucent_sampling sampling,
                    int frames, int size, struct measure *m)
@@ -74,7 +63,7 @@ static int measure(lucent_renderer *r, uint32_t triangles, lucent_method method,
     }
     for (int k = 0; k < T_COUNT; k++) {
         if (rc == 0)
-            m->median[k] = median(t[k], frames);
+            m->median[k] = bench_median(t[k], frames);
         free(t[k]);
     }
     return rc;

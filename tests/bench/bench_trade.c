@@ -1,5 +1,6 @@
 /* bench_trade.c - the measured speed/accuracy trade: every fast mode timed warm and scored against method
  * "reference" over 4 meshes x 3 lights x 4 materials x 2 sizes; writes CSV, Markdown and a plot table. */
+#include "bench_median.h"
 #include "lucent.h"
 
 #include <stdarg.h>
@@ -99,18 +100,6 @@ static void case_label(int index, char *buf, size_t cap)
     snprintf(buf, cap, "%s %s %s", meshes[c.mesh].name, lights[c.light].name, materials[c.material]);
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 static int usage(void)
 {
     fprintf(stderr, "usage: bench_trade [--quick] [--frames F] BUNNY.obj OUT_PREFIX\n"
@@ -193,7 +182,7 @@ static lucent_status measure(lucent_renderer *r, const lucent_scene *s, int fram
         lucent_image_free(&img);
     }
     for (int k = 0; k < T_COUNT && st == LUCENT_OK; k++)
-        out->ms[k] = median(t + k * frames, frames);
+        out->ms[k] = bench_median(t + k * frames, frames);
     free(t);
     return st;
 }
@@ -258,9 +247,9 @@ static struct summary summarize(const struct result *res, int size, int mode, do
         s.worst = worse(res, first + i, s.worst, mode, 0) ? first + i : s.worst;
         s.worst_band = worse(res, first + i, s.worst_band, mode, 1) ? first + i : s.worst_band;
     }
-    s.ms = median(v[0], CASES_PER_SIZE);
-    s.rel_l2 = median(v[1], CASES_PER_SIZE);
-    s.band_rel_l2 = median(v[2], CASES_PER_SIZE);
+    s.ms = bench_median(v[0], CASES_PER_SIZE);
+    s.rel_l2 = bench_median(v[1], CASES_PER_SIZE);
+    s.band_rel_l2 = bench_median(v[2], CASES_PER_SIZE);
     return s;
 }
 
