@@ -45,19 +45,17 @@ static int compare_double(const void *x, const void *y)
     return (a > b) - (a < b);
 }
 
-static void finish(struct accumulator *a, double *rel_l2, double *mean_abs, double *max_abs, double *p99,
-                   double *share)
+static void finish(struct accumulator *a, lucent_error_measures *m)
 {
-    if (a->pixels == 0) {
-        *rel_l2 = *mean_abs = *max_abs = *p99 = *share = 0.0;
+    *m = (lucent_error_measures){.pixels = a->pixels};
+    if (a->pixels == 0)
         return;
-    }
     qsort(a->rel, (size_t)a->pixels, sizeof *a->rel, compare_double);
-    *rel_l2 = a->ref2 > 0.0 ? sqrt(a->diff2 / a->ref2) : sqrt(a->diff2);
-    *mean_abs = a->abs_sum / a->values;
-    *max_abs = a->abs_max;
-    *p99 = a->rel[(size_t)floor(0.99 * (a->pixels - 1))];
-    *share = (double)a->over_10pct / a->pixels;
+    m->rel_l2 = a->ref2 > 0.0 ? sqrt(a->diff2 / a->ref2) : sqrt(a->diff2);
+    m->mean_abs = a->abs_sum / a->values;
+    m->max_abs = a->abs_max;
+    m->p99_rel = a->rel[(size_t)floor(0.99 * (a->pixels - 1))];
+    m->share_over_10pct = (double)a->over_10pct / a->pixels;
 }
 
 /* Mean reference radiance magnitude over covered pixels, for the relative-error floor. */
@@ -100,24 +98,28 @@ lucent_status lucent_image_compare(const lucent_image *test, const lucent_image 
         if (ref->facing && fabsf(ref->facing[i]) < BAND_COS)
             add_pixel(&band, &test->rgba[i * 4], &ref->rgba[i * 4], floor);
     }
-    out->pixels = all.pixels;
-    out->band_pixels = band.pixels;
-    finish(&all, &out->rel_l2, &out->mean_abs, &out->max_abs, &out->p99_rel, &out->share_over_10pct);
-    finish(&band, &out->band_rel_l2, &out->band_mean_abs, &out->band_max_abs, &out->band_p99_rel,
-           &out->band_share_over_10pct);
+    finish(&all, &out->object);
+    finish(&band, &out->band);
     free(all.rel);
     free(band.rel);
     return LUCENT_OK;
 }
 
+/* The measures' JSON members, without braces. */
+static int measures_json(const lucent_error_measures *m, char *buf, size_t cap)
+{
+    return snprintf(buf, cap,
+                    "\"pixels\":%d,\"rel_l2\":%.6g,\"mean_abs\":%.6g,\"max_abs\":%.6g,\"p99_rel\":%.6g,"
+                    "\"share_over_10pct\":%.6g",
+                    m->pixels, m->rel_l2, m->mean_abs, m->max_abs, m->p99_rel, m->share_over_10pct);
+}
+
 int lucent_image_error_json(const lucent_image_error *e, char *buf, size_t cap)
 {
-    int n = snprintf(buf, cap,
-                     "{\"pixels\":%d,\"coverage_mismatch\":%d,\"rel_l2\":%.6g,\"mean_abs\":%.6g,\"max_abs\":%.6g,"
-                     "\"p99_rel\":%.6g,\"share_over_10pct\":%.6g,\"silhouette_band\":{\"pixels\":%d,"
-                     "\"rel_l2\":%.6g,\"mean_abs\":%.6g,\"max_abs\":%.6g,\"p99_rel\":%.6g,\"share_over_10pct\":%.6g}}",
-                     e->pixels, e->coverage_mismatch, e->rel_l2, e->mean_abs, e->max_abs, e->p99_rel,
-                     e->share_over_10pct, e->band_pixels, e->band_rel_l2, e->band_mean_abs, e->band_max_abs,
-                     e->band_p99_rel, e->band_share_over_10pct);
+    char object[256], band[256];
+    measures_json(&e->object, object, sizeof object);
+    measures_json(&e->band, band, sizeof band);
+    int n = snprintf(buf, cap, "{%s,\"coverage_mismatch\":%d,\"silhouette_band\":{%s}}", object,
+                     e->coverage_mismatch, band);
     return n < 0 || (size_t)n >= cap ? -1 : n;
 }

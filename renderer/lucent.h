@@ -166,13 +166,17 @@ lucent_status lucent_image_load(const char *path, lucent_image *out, lucent_erro
 /* Error of an image against a reference, over the pixels covered in both (RGB radiance). rel_l2 is
  * ||test - ref|| / ||ref|| over all those values; per-pixel relative error is |test - ref| / |ref|
  * (RGB vectors, the reference floored at 1e-3 of its mean so black pixels do not divide by 0).
- * The band_ fields repeat the measures for the silhouette band: pixels whose normal is 70 to 90
- * degrees from the view direction (reference facing AOV below cos 70 deg; absent AOV: no band). */
-typedef struct lucent_image_error {
-    int pixels, band_pixels;
-    int coverage_mismatch;   /* pixels covered in one image only */
+ * `band` repeats the measures for the silhouette band: pixels whose normal is 70 to 90 degrees
+ * from the view direction (reference facing AOV below cos 70 deg; absent AOV: no band). */
+typedef struct lucent_error_measures {
+    int pixels;
     double rel_l2, mean_abs, max_abs, p99_rel, share_over_10pct;
-    double band_rel_l2, band_mean_abs, band_max_abs, band_p99_rel, band_share_over_10pct;
+} lucent_error_measures;
+
+typedef struct lucent_image_error {
+    lucent_error_measures object;   /* every pixel covered in both images */
+    lucent_error_measures band;     /* the silhouette band */
+    int coverage_mismatch;          /* pixels covered in one image only */
 } lucent_image_error;
 
 lucent_status lucent_image_compare(const lucent_image *test, const lucent_image *ref, lucent_image_error *out,

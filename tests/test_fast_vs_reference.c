@@ -28,11 +28,11 @@ static void score(lucent_renderer *r, const char *mesh, const char *light, const
         lucent_error err = {0};
         test_render(r, json, &img, NULL);
         lucent_status st = lucent_image_compare(&img, &ref, &e, &err);
-        test_check(st == LUCENT_OK && e.rel_l2 < BOUND && e.coverage_mismatch <= e.pixels / 50,
+        test_check(st == LUCENT_OK && e.object.rel_l2 < BOUND && e.coverage_mismatch <= e.object.pixels / 50,
                    "%-10s %-8s light %-9s {%s}: rel L2 %.4f (band %.4f over %d px), p99 rel %.3f, "
                    ">10%% %.2f, coverage mismatch %d",
-                   mesh, material, light, modes[m], e.rel_l2, e.band_rel_l2, e.band_pixels, e.p99_rel,
-                   e.share_over_10pct, e.coverage_mismatch);
+                   mesh, material, light, modes[m], e.object.rel_l2, e.band.rel_l2, e.band.pixels, e.object.p99_rel,
+                   e.object.share_over_10pct, e.coverage_mismatch);
         lucent_image_free(&img);
     }
     lucent_image_free(&ref);

@@ -50,18 +50,18 @@ int main(void)
     copy_image(&ref, &test);
 
     lucent_image_compare(&test, &ref, &e, &err);
-    test_check(e.pixels > 500 && e.rel_l2 == 0.0 && e.max_abs == 0.0 && e.band_pixels > 0 && e.band_rel_l2 == 0.0,
-               "identical: %d pixels (%d in the band), rel L2 %g, max abs %g", e.pixels, e.band_pixels, e.rel_l2,
-               e.max_abs);
+    test_check(e.object.pixels > 500 && e.object.rel_l2 == 0.0 && e.object.max_abs == 0.0 && e.band.pixels > 0 && e.band.rel_l2 == 0.0,
+               "identical: %d pixels (%d in the band), rel L2 %g, max abs %g", e.object.pixels, e.band.pixels, e.object.rel_l2,
+               e.object.max_abs);
 
     for (int i = 0; i < W * H * 4; i++)
         if (i % 4 != 3)
             test.rgba[i] = ref.rgba[i] * 1.2f;
     lucent_image_compare(&test, &ref, &e, &err);
-    test_check(fabs(e.rel_l2 - 0.2) < 1e-6 && fabs(e.p99_rel - 0.2) < 1e-6 && e.share_over_10pct == 1.0 &&
-                   fabs(e.max_abs - 0.2) < 1e-6 && fabs(e.band_rel_l2 - 0.2) < 1e-6,
-               "20%% gain: rel L2 %.6f, p99 %.6f, share >10%% %.3f, max abs %.6f, band rel L2 %.6f", e.rel_l2,
-               e.p99_rel, e.share_over_10pct, e.max_abs, e.band_rel_l2);
+    test_check(fabs(e.object.rel_l2 - 0.2) < 1e-6 && fabs(e.object.p99_rel - 0.2) < 1e-6 && e.object.share_over_10pct == 1.0 &&
+                   fabs(e.object.max_abs - 0.2) < 1e-6 && fabs(e.band.rel_l2 - 0.2) < 1e-6,
+               "20%% gain: rel L2 %.6f, p99 %.6f, share >10%% %.3f, max abs %.6f, band rel L2 %.6f", e.object.rel_l2,
+               e.object.p99_rel, e.object.share_over_10pct, e.object.max_abs, e.band.rel_l2);
 
     int band = 0;
     for (int i = 0; i < W * H; i++) {
@@ -73,10 +73,10 @@ int main(void)
         }
     }
     lucent_image_compare(&test, &ref, &e, &err);
-    test_check(e.band_pixels == band && e.band_share_over_10pct == 1.0 && e.band_rel_l2 > e.rel_l2 &&
-                   e.share_over_10pct < 1.0 && e.share_over_10pct > 0.0,
+    test_check(e.band.pixels == band && e.band.share_over_10pct == 1.0 && e.band.rel_l2 > e.object.rel_l2 &&
+                   e.object.share_over_10pct < 1.0 && e.object.share_over_10pct > 0.0,
                "error only in the band (%d px): band rel L2 %.4f > whole %.4f; share >10%% band %.2f, whole %.3f",
-               band, e.band_rel_l2, e.rel_l2, e.band_share_over_10pct, e.share_over_10pct);
+               band, e.band.rel_l2, e.object.rel_l2, e.band.share_over_10pct, e.object.share_over_10pct);
 
     test.rgba[3] = 1.0f;              /* corner covered in the test only */
     test.rgba[(W * H / 2 + W / 2) * 4 + 3] = 0.0f;   /* centre uncovered in the test only */

@@ -105,7 +105,7 @@ static void check_case(lucent_renderer *r, const struct extreme *c)
         if (m == 0)
             snprintf(versus, sizeof versus, "its estimated error %.3g%s", ref_error, trusted ? "" : " (not converged)");
         else if (trusted)
-            snprintf(versus, sizeof versus, "rel L2 vs reference %.3g", e.rel_l2);
+            snprintf(versus, sizeof versus, "rel L2 vs reference %.3g", e.object.rel_l2);
         else
             snprintf(versus, sizeof versus, "no converged reference");
         test_check(s.bad == 0 && bounded, "{%.50s...} %-34s: %d bad, %d covered, peak %.3g (bound %s%.3g), %s",

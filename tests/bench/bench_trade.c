@@ -196,9 +196,9 @@ static void write_csv_row(FILE *csv, int index, int mode, const struct result *x
             "%.6g\n",
             meshes[c.mesh].name, lights[c.light].name, materials[c.material], sizes[c.size], modes[mode].name,
             x->ms[T_TOTAL], x->ms[T_SHADOW], x->ms[T_PROJECTION], x->ms[T_GBUFFER], x->ms[T_SCATTER],
-            x->ms[T_READBACK], e->pixels, e->coverage_mismatch, e->rel_l2, e->mean_abs, e->max_abs, e->p99_rel,
-            e->share_over_10pct, e->band_pixels, e->band_rel_l2, e->band_mean_abs, e->band_max_abs, e->band_p99_rel,
-            e->band_share_over_10pct);
+            x->ms[T_READBACK], e->object.pixels, e->coverage_mismatch, e->object.rel_l2, e->object.mean_abs,
+            e->object.max_abs, e->object.p99_rel, e->object.share_over_10pct, e->band.pixels, e->band.rel_l2,
+            e->band.mean_abs, e->band.max_abs, e->band.p99_rel, e->band.share_over_10pct);
 }
 
 /* Renders the reference of one case, then every mode; rows go to the CSV as they are measured. */
@@ -232,7 +232,7 @@ static lucent_status run_case(lucent_renderer *r, const struct options *o, int i
 static int worse(const struct result *res, int a, int b, int mode, int band)
 {
     const lucent_image_error *x = &res[a * MODES + mode].e, *y = &res[b * MODES + mode].e;
-    return band ? x->band_rel_l2 > y->band_rel_l2 : x->rel_l2 > y->rel_l2;
+    return band ? x->band.rel_l2 > y->band.rel_l2 : x->object.rel_l2 > y->object.rel_l2;
 }
 
 static struct summary summarize(const struct result *res, int size, int mode, double *scratch)
@@ -243,7 +243,7 @@ static struct summary summarize(const struct result *res, int size, int mode, do
     double *v[3] = {scratch, scratch + CASES_PER_SIZE, scratch + 2 * CASES_PER_SIZE};
     for (int i = 0; i < CASES_PER_SIZE; i++) {
         const struct result *x = &res[(first + i) * MODES + mode];
-        v[0][i] = x->ms[T_TOTAL], v[1][i] = x->e.rel_l2, v[2][i] = x->e.band_rel_l2;
+        v[0][i] = x->ms[T_TOTAL], v[1][i] = x->e.object.rel_l2, v[2][i] = x->e.band.rel_l2;
         s.worst = worse(res, first + i, s.worst, mode, 0) ? first + i : s.worst;
         s.worst_band = worse(res, first + i, s.worst_band, mode, 1) ? first + i : s.worst_band;
     }
@@ -289,8 +289,8 @@ static void write_summary(const struct result *res, const struct summary *s, int
         case_label(s[m].worst, worst, sizeof worst);
         case_label(s[m].worst_band, worst_band, sizeof worst_band);
         emit(out->md, "| %s | %.1f | %.4f | %.4f | %.4f (%s) | %.4f (%s) | %s |\n", modes[m].name, s[m].ms,
-             s[m].rel_l2, s[m].band_rel_l2, res[s[m].worst * MODES + m].e.rel_l2, worst,
-             res[s[m].worst_band * MODES + m].e.band_rel_l2, worst_band, s[m].pareto ? "yes" : "");
+             s[m].rel_l2, s[m].band_rel_l2, res[s[m].worst * MODES + m].e.object.rel_l2, worst,
+             res[s[m].worst_band * MODES + m].e.band.rel_l2, worst_band, s[m].pareto ? "yes" : "");
         fprintf(out->tsv, "%d\t%s\t%.3f\t%.6g\t%.6g\t%d\n", sizes[size], modes[m].name, s[m].ms, s[m].rel_l2,
                 s[m].band_rel_l2, s[m].pareto);
     }
@@ -320,11 +320,11 @@ static void write_claim(const struct options *o, const struct result *res, const
             for (int mat = 0; mat < (int)N(materials); mat++) {
                 int i = case_index(z, claim_meshes[k], LIGHT_SIDE, mat);
                 const lucent_image_error *a = &res[i * MODES + one].e, *b = &res[i * MODES + five].e;
-                int beats = b->band_rel_l2 < a->band_rel_l2;
+                int beats = b->band.rel_l2 < a->band.rel_l2;
                 char label[128];
                 case_label(i, label, sizeof label);
                 emit(out->md, "| %d | %s | %.4f | %.4f | %.2f | %.4f | %.4f | %s |\n", sizes[z], label,
-                     a->band_rel_l2, b->band_rel_l2, b->band_rel_l2 / a->band_rel_l2, a->rel_l2, b->rel_l2,
+                     a->band.rel_l2, b->band.rel_l2, b->band.rel_l2 / a->band.rel_l2, a->object.rel_l2, b->object.rel_l2,
                      beats ? "yes" : "**no**");
                 if (!beats && used < sizeof misses)
                     used += (size_t)snprintf(misses + used, sizeof misses - used, "%s%s at %d", used ? "; " : "",
