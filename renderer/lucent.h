@@ -67,13 +67,17 @@ typedef enum lucent_format { LUCENT_FORMAT_PNG = 0, LUCENT_FORMAT_EXR } lucent_f
  * channel samples its own profile, 3 x `samples` fetches. */
 typedef enum lucent_sampling { LUCENT_SAMPLING_SHARED = 0, LUCENT_SAMPLING_PER_CHANNEL } lucent_sampling;
 typedef enum lucent_light_type { LUCENT_LIGHT_DIRECTIONAL = 0, LUCENT_LIGHT_POINT } lucent_light_type;
-typedef enum lucent_mesh_source { LUCENT_MESH_BUILTIN = 0, LUCENT_MESH_FILE } lucent_mesh_source;
+/* STORED: a mesh uploaded to the daemon's store, named by the sha256 of its bytes; the daemon
+ * resolves it to a file before rendering (the library never maps ids to paths itself). */
+typedef enum lucent_mesh_source { LUCENT_MESH_BUILTIN = 0, LUCENT_MESH_FILE, LUCENT_MESH_STORED } lucent_mesh_source;
+#define LUCENT_MESH_ID_LEN 64
 
 typedef struct lucent_mesh_ref {
     lucent_mesh_source source;
     char builtin[32];      /* "sphere", "torus", "protrusion" */
     uint32_t triangles;    /* builtin only; 0 = the mesh's default density */
     char file[1024];       /* LUCENT_MESH_FILE: path on the local disk */
+    char id[LUCENT_MESH_ID_LEN + 1];  /* LUCENT_MESH_STORED: lowercase hex sha256 */
 } lucent_mesh_ref;
 
 /* Coefficients in mm^-1 per RGB channel (Jensen et al. 2001). */

@@ -22,6 +22,9 @@ static lucent_status mesh_key(const lucent_mesh_ref *ref, char *key, size_t cap,
         snprintf(key, cap, "builtin:%s:%u", ref->builtin, ref->triangles);
         return LUCENT_OK;
     }
+    if (ref->source == LUCENT_MESH_STORED)
+        return lucent_fail(err, LUCENT_E_INVALID, "mesh.id",
+                           "stored meshes are resolved to a file by the daemon before rendering");
     struct stat sb;
     if (stat(ref->file, &sb) != 0)
         return lucent_fail(err, LUCENT_E_IO, "mesh.file", "cannot read \"%s\"", ref->file);

@@ -74,7 +74,7 @@ static const char *const top_keys[] = {"mesh", "scale_mm", "material", "lights",
                                        "projection_size", "side_projection_size", "background",
                                        "exposure", "format", "reference", NULL};
 static const char *const reference_keys[] = {"points", "threshold", NULL};
-static const char *const mesh_keys[] = {"builtin", "triangles", "file", NULL};
+static const char *const mesh_keys[] = {"builtin", "triangles", "file", "id", NULL};
 static const char *const material_keys[] = {"preset", "sigma_a", "sigma_s_prime", "eta", NULL};
 static const char *const directional_keys[] = {"type", "direction", "color", "intensity", NULL};
 static const char *const point_keys[] = {"type", "position", "color", "intensity", NULL};
@@ -383,6 +383,31 @@ static lucent_status parse_mesh_file(json_t *obj, int allow_files, lucent_mesh_r
     return LUCENT_OK;
 }
 
+/* Ids are checked to be exactly lowercase hex of a sha256, so one can never name a path. */
+static lucent_status parse_mesh_id(json_t *obj, lucent_mesh_ref *m, lucent_error *err)
+{
+    const json_t *v = json_object_get(obj, "id");
+    const char *id = json_is_string(v) ? json_string_value(v) : "";
+    size_t n = json_is_string(v) ? json_string_length(v) : 0;
+    int ok = n == LUCENT_MESH_ID_LEN;
+    for (size_t i = 0; ok && i < n; i++)
+        ok = (id[i] >= '0' && id[i] <= '9') || (id[i] >= 'a' && id[i] <= 'f');
+    if (!ok) {
+        char got[96];
+        describe(v, got, sizeof got);
+        return lucent_fail(err, LUCENT_E_INVALID, "mesh.id",
+                           "must be the %d lowercase hex digits of an uploaded mesh's sha256 (got %s)",
+                           LUCENT_MESH_ID_LEN, got);
+    }
+    if (json_object_get(obj, "triangles"))
+        return lucent_fail(err, LUCENT_E_INVALID, "mesh.triangles",
+                           "only applies to a builtin mesh, not to \"id\"");
+    memset(m, 0, sizeof *m);
+    m->source = LUCENT_MESH_STORED;
+    memcpy(m->id, id, LUCENT_MESH_ID_LEN + 1);
+    return LUCENT_OK;
+}
+
 static lucent_status parse_mesh_builtin(json_t *obj, lucent_mesh_ref *m, lucent_error *err)
 {
     int index = 0, triangles = 0;
@@ -413,10 +438,13 @@ static lucent_status parse_mesh(json_t *v, int allow_files, lucent_mesh_ref *m, 
         return st;
     int has_builtin = json_object_get(v, "builtin") != NULL;
     int has_file = json_object_get(v, "file") != NULL;
-    if (has_builtin == has_file)
+    int has_id = json_object_get(v, "id") != NULL;
+    if (has_builtin + has_file + has_id != 1)
         return lucent_fail(err, LUCENT_E_INVALID, "mesh",
-                           "must have exactly one of \"builtin\" or \"file\" (got %s)",
-                           has_file ? "both" : "neither");
+                           "must have exactly one of \"builtin\", \"id\" or \"file\" (got %s)",
+                           has_builtin + has_file + has_id ? "several" : "none");
+    if (has_id)
+        return parse_mesh_id(v, m, err);
     return has_file ? parse_mesh_file(v, allow_files, m, err) : parse_mesh_builtin(v, m, err);
 }
 

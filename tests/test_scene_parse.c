@@ -69,6 +69,13 @@ static const parse_case cases[] = {
     {"{\"mesh\": {\"file\": \"\"}}", 1, INV, "mesh.file"},
     {"{\"mesh\": {\"file\": 7}}", 1, INV, "mesh.file"},
     {"{\"mesh\": {\"file\": \"a.obj\", \"triangles\": 5}}", 1, INV, "mesh.triangles"},
+    {"{\"mesh\": {\"id\": \"0123456789abcdef0123456789abcdef0123456789abcdef0123456789abcdef\"}}", 0, OK, ""},
+    {"{\"mesh\": {\"id\": \"0123456789ABCDEF0123456789ABCDEF0123456789ABCDEF0123456789ABCDEF\"}}", 0, INV, "mesh.id"},
+    {"{\"mesh\": {\"id\": \"0123456789abcdef0123456789abcdef0123456789abcdef0123456789abcde\"}}", 0, INV, "mesh.id"},
+    {"{\"mesh\": {\"id\": \"../../etc/passwd\"}}", 0, INV, "mesh.id"},
+    {"{\"mesh\": {\"id\": 7}}", 0, INV, "mesh.id"},
+    {"{\"mesh\": {\"id\": \"0123456789abcdef0123456789abcdef0123456789abcdef0123456789abcdef\", \"builtin\": \"sphere\"}}", 0, INV, "mesh"},
+    {"{\"mesh\": {\"id\": \"0123456789abcdef0123456789abcdef0123456789abcdef0123456789abcdef\", \"triangles\": 5000}}", 0, INV, "mesh.triangles"},
     /* scale */
     {"{\"scale_mm\": 10}", 0, OK, ""},
     {"{\"scale_mm\": 0}", 0, INV, "scale_mm"},
