@@ -9,8 +9,6 @@
 #include <math.h>
 #include <string.h>
 
-/* Margin around the bounding sphere so silhouettes never touch an image border. */
-#define FIT_MARGIN 1.02
 #define PI 3.14159265358979323846
 #define DEG (PI / 180.0)
 #define GOLDEN_ANGLE 2.39996322972865332
@@ -28,7 +26,7 @@ lucent_status frame_camera(const lucent_scene *s, const struct lucent_mesh *mesh
     double half_v = s->camera.fov_deg * 0.5 * DEG;
     double tan_v = tan(half_v), tan_h = tan_v * aspect;
     double eye[3], forward[3], up[3] = {0, 1, 0};
-    double radius = mesh->radius * FIT_MARGIN;
+    double radius = mesh->radius * FRAME_FIT_MARGIN;
     if (s->camera.given) {
         double target[3];
         centred(s->camera.position, mesh, eye);
@@ -74,7 +72,7 @@ static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh
     view_frame_clip(out, clip);
     m4_to_float(clip, plan->camera_clip);
     v3_copy_f4(out->eye, 0.0, plan->camera_eye);
-    plan->camera_outside = v3_length(out->eye) > mesh->radius * FIT_MARGIN;
+    plan->camera_outside = v3_length(out->eye) > mesh->radius * FRAME_FIT_MARGIN;
     v3_copy_f4(out->eye, 0.0, plan->uniforms.camera_eye);
     return LUCENT_OK;
 }
@@ -123,7 +121,7 @@ static const char *shadow_skip_reason(const lucent_light *l, const struct lucent
         return "skipped: light is black";
     if (mesh->convex)
         return "skipped: mesh is convex, n.l already hides every occluded point";
-    if (l->type == LUCENT_LIGHT_POINT && v3_length(pos) <= mesh->radius * FIT_MARGIN)
+    if (l->type == LUCENT_LIGHT_POINT && v3_length(pos) <= mesh->radius * FRAME_FIT_MARGIN)
         return "skipped: point light inside the bounding sphere (unshadowed)";
     return NULL;
 }
@@ -166,7 +164,7 @@ static void plan_lights(const lucent_scene *s, const struct lucent_mesh *mesh, d
                         struct frame_plan *plan)
 {
     struct frame_uniforms *u = &plan->uniforms;
-    double radius = mesh->radius * FIT_MARGIN;
+    double radius = mesh->radius * FRAME_FIT_MARGIN;
     plan->shadow_count = 0;
     for (int l = 0; l < s->light_count; l++) {
         const lucent_light *light = &s->lights[l];
@@ -229,17 +227,24 @@ static void plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
      * sigma_a = 0 (an infinite diffusion length) finite. */
     double r_max = 2.0 * mesh->radius * plan->scale_mm;
     struct dipole d[3];
+    double g = s->material.g;
     for (int c = 0; c < 3; c++) {
         dipole_init(&d[c], s->material.sigma_a[c], s->material.sigma_s_prime[c], s->material.eta);
         u->sigma_tr[c] = (float)d[c].sigma_tr;
         u->z_r[c] = (float)d[c].z_r;
         u->z_v[c] = (float)d[c].z_v;
         u->alpha_prime[c] = (float)d[c].alpha_prime;
+        u->rd_total[c] = (float)dipole_rd_disc(&d[c], r_max);
+        double sigma_s = s->material.sigma_s_prime[c] / (1.0 - g);
+        u->single_albedo[c] = (float)(sigma_s / (sigma_s + s->material.sigma_a[c]));
     }
+    u->single_albedo[3] = (float)g;
+    if (plan->scatter_samples == 0)
+        return;
     if (s->sampling == LUCENT_SAMPLING_SHARED)
-        shared_samples(d, r_max, s->samples, u);
+        shared_samples(d, r_max, plan->scatter_samples, u);
     else
-        per_channel_samples(d, r_max, s->samples, u);
+        per_channel_samples(d, r_max, plan->scatter_samples, u);
 }
 
 int frame_side_projection_size(const lucent_scene *scene)
@@ -249,21 +254,23 @@ int frame_side_projection_size(const lucent_scene *scene)
 }
 
 lucent_status frame_plan_build(const lucent_scene *scene, const struct lucent_mesh *mesh,
-                               double proxy_tolerance, struct frame_plan *plan, lucent_error *err)
+                               double proxy_tolerance, int diffuse_limit, struct frame_plan *plan, lucent_error *err)
 {
     memset(plan, 0, sizeof *plan);
+    plan->scatter_samples = diffuse_limit ? 0 : scene->samples;
     plan->scale_mm = frame_scale_mm(scene, mesh);
     plan->view_count = scene->method == LUCENT_METHOD_SINGLE ? 1 : FRAME_MAX_VIEWS;
     struct view_frame cam;
     lucent_status st = plan_camera(scene, mesh, &cam, plan, err);
     if (st != LUCENT_OK)
         return st;
-    plan_views(scene, &cam, mesh->radius * FIT_MARGIN, plan);
+    plan_views(scene, &cam, mesh->radius * FRAME_FIT_MARGIN, plan);
     plan_lights(scene, mesh, proxy_tolerance, plan);
     plan_material(scene, mesh, plan);
     struct frame_uniforms *u = &plan->uniforms;
     u->params[0] = (float)scene->material.eta;
     u->params[1] = (float)plan->scale_mm;
     u->params[2] = (float)(proxy_tolerance + mesh->radius * 1e-5);
+    u->params[3] = (float)scene->light_count;
     return LUCENT_OK;
 }

@@ -8,12 +8,16 @@
 #include "mesh.h"
 #include "view_frame.h"
 
+/* Margin around the bounding sphere so silhouettes never touch an image border. */
+#define FRAME_FIT_MARGIN 1.02
+
 struct frame_plan {
     struct frame_uniforms uniforms;
     struct view_frame camera;               /* mesh-centred, as frame_camera() gives it */
     float camera_clip[16];
     float camera_eye[4];
     int view_count;                         /* 1 (single) or 5 */
+    int scatter_samples;                    /* per channel; 0 = diffuse limit (no sampling) */
     int side_projection_size;               /* resolved side image size, texels */
     int shadow_count;                       /* shadow maps to draw */
     uint32_t shadow_mask;                   /* bit l: light l reads shadow map */
@@ -38,8 +42,10 @@ int frame_side_projection_size(const lucent_scene *scene);
 #define SHADOW_MAP_SIZE 1024
 
 /* proxy_tolerance: how far (scene units) the projection passes' geometry may stray from the
- * camera's (a simplified proxy mesh), widening the visibility test. */
+ * camera's (a simplified proxy mesh), widening the visibility test. diffuse_limit: replace the
+ * sampled sum by the point's irradiance times the integral of R_d (method auto decides). */
 lucent_status frame_plan_build(const lucent_scene *scene, const struct lucent_mesh *mesh,
-                               double proxy_tolerance, struct frame_plan *plan, lucent_error *err);
+                               double proxy_tolerance, int diffuse_limit, struct frame_plan *plan,
+                               lucent_error *err);
 
 #endif

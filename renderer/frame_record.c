@@ -158,9 +158,10 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
     if (st == LUCENT_OK && five)
         st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_SIDES, s->light_count,
                                   plan->shadow_mask, cull, &sides, err);
+    struct scatter_variant variant = {plan->scatter_samples, plan->view_count, s->sampling, s->fallback,
+                                      s->single_scattering};
     if (st == LUCENT_OK)
-        st =
-            pipelines_scatter(gpu->ctx, gpu->pipes, s->samples, plan->view_count, s->sampling, &scatter, err);
+        st = pipelines_scatter(gpu->ctx, gpu->pipes, &variant, &scatter, err);
     if (st != LUCENT_OK)
         return st;
     VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,

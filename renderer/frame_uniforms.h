@@ -23,6 +23,8 @@ struct frame_uniforms {
     float z_r[4];
     float z_v[4];
     float alpha_prime[4];
+    float rd_total[4];
+    float single_albedo[4];
     float samples[3 * LUCENT_MAX_SAMPLES][4];
 };
 

@@ -56,11 +56,19 @@ const char *lucent_status_name(lucent_status s);
 #define LUCENT_MAX_INTENSITY 1.0e12
 #define LUCENT_MAX_EXPOSURE 64.0     /* stops, either way */
 #define LUCENT_MAX_REFERENCE_POINTS 4000000u
+#define LUCENT_MAX_G 0.95             /* |g|: sigma_s = sigma_s' / (1 - g) grows without bound at 1 */
 
 /* ---- Scene ---- */
 /* five, single: the image-space method (GPU); reference: the model without image-space shortcuts,
- * on the CPU in double precision (the ground truth the others are scored against). */
-typedef enum lucent_method { LUCENT_METHOD_FIVE = 0, LUCENT_METHOD_SINGLE, LUCENT_METHOD_REFERENCE } lucent_method;
+ * on the CPU in double precision (the ground truth the others are scored against); auto: the
+ * image-space method with views, samples, sampling scheme and projection size chosen from the
+ * scene (the choices are reported in lucent_stats.modelled). */
+typedef enum lucent_method {
+    LUCENT_METHOD_FIVE = 0, LUCENT_METHOD_SINGLE, LUCENT_METHOD_REFERENCE, LUCENT_METHOD_AUTO
+} lucent_method;
+/* Where a pixel's point hidden in its best-facing view is integrated: next_best tries the other
+ * facing views in order of n.v, then the front; front is the paper's choice. */
+typedef enum lucent_fallback { LUCENT_FALLBACK_NEXT_BEST = 0, LUCENT_FALLBACK_FRONT } lucent_fallback;
 typedef enum lucent_format { LUCENT_FORMAT_PNG = 0, LUCENT_FORMAT_EXR } lucent_format;
 /* shared: every fetched texel feeds all three channels (multiple importance sampling over the
  * three channels' profiles), `samples` fetches a pixel; per_channel: the paper's scheme, each
@@ -86,6 +94,8 @@ typedef struct lucent_material {
     double sigma_a[3];
     double sigma_s_prime[3];
     double eta;
+    double g;              /* Henyey-Greenstein mean cosine, for single scattering only:
+                            * sigma_s = sigma_s' / (1 - g) */
 } lucent_material;
 
 typedef struct lucent_light {
@@ -114,6 +124,8 @@ typedef struct lucent_scene {
     lucent_method method;
     int samples;           /* per channel */
     lucent_sampling sampling;
+    lucent_fallback fallback;
+    int single_scattering;  /* 1: add Jensen 2001's single-scattering term */
     int projection_size;   /* side of the front projection image, texels */
     int side_projection_size;  /* side of the four side images; 0 = projection_size / 2 */
     double background[4];  /* linear RGBA composited under the object on output */

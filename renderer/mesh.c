@@ -1,6 +1,7 @@
 /* mesh.c - lifetime of lucent_mesh and mesh_finish, the gate every importer and generator passes:
  * validation, removal of degenerate triangles and unused vertices, recentring and unit normals. */
 #include "mesh.h"
+#include "linalg.h"
 #include "mesh_normals.h"
 
 #include <math.h>
@@ -294,4 +295,36 @@ lucent_status mesh_fill_normals(struct lucent_mesh *m, lucent_error *err)
     }
     free(sums);
     return LUCENT_OK;
+}
+
+void mesh_vertex(const struct lucent_mesh *m, uint32_t t, int k, double out[3])
+{
+    const float *p = &m->positions[(size_t)m->indices[(size_t)t * 3 + k] * 3];
+    out[0] = p[0], out[1] = p[1], out[2] = p[2];
+}
+
+void mesh_surface_at(const struct lucent_mesh *m, uint32_t t, double b1, double b2, double p[3], double n[3],
+                     double g[3])
+{
+    double v[3][3], e1[3], e2[3], w[3] = {1.0 - b1 - b2, b1, b2};
+    for (int k = 0; k < 3; k++)
+        mesh_vertex(m, t, k, v[k]);
+    for (int a = 0; a < 3; a++) {
+        e1[a] = v[1][a] - v[0][a];
+        e2[a] = v[2][a] - v[0][a];
+        p[a] = n[a] = 0.0;
+    }
+    v3_cross(e1, e2, g);
+    v3_normalize(g);
+    for (int k = 0; k < 3; k++) {
+        const float *vn = &m->normals[(size_t)m->indices[(size_t)t * 3 + k] * 3];
+        for (int a = 0; a < 3; a++) {
+            p[a] += w[k] * v[k][a];
+            n[a] += w[k] * vn[a];
+        }
+    }
+    /* Files may carry flipped normals: the winding decides which side is outside. */
+    double sign = v3_normalize(n) == 0.0 ? 0.0 : v3_dot(n, g) < 0.0 ? -1.0 : 1.0;
+    for (int a = 0; a < 3; a++)
+        n[a] = sign == 0.0 ? g[a] : sign * n[a];
 }

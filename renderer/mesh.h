@@ -36,4 +36,11 @@ struct lucent_mesh *mesh_alloc(uint32_t vertex_count, uint32_t triangle_count, i
  * on meshes far denser than a projection image. Returns NULL on allocation failure. */
 struct lucent_mesh *mesh_simplify(const struct lucent_mesh *src, uint32_t target_triangles);
 
+/* Vertex k (0..2) of triangle t, mesh-centred. */
+void mesh_vertex(const struct lucent_mesh *m, uint32_t t, int k, double out[3]);
+/* Point, unit interpolated normal (turned to the side the winding calls outside) and unit geometric
+ * normal at barycentrics (b1, b2) of triangle t. */
+void mesh_surface_at(const struct lucent_mesh *m, uint32_t t, double b1, double b2, double p[3], double n[3],
+                     double g[3]);
+
 #endif

@@ -122,8 +122,8 @@ static lucent_status ensure_proxy(struct vk_context *ctx, const struct lucent_me
     return st;
 }
 
-static lucent_status ensure_proxies(struct vk_context *ctx, struct gpu_mesh *s, int projection_size, int side_size,
-                                    lucent_error *err)
+lucent_status mesh_cache_proxies(struct vk_context *ctx, struct gpu_mesh *s, int projection_size, int side_size,
+                                 lucent_error *err)
 {
     lucent_status st = ensure_proxy(ctx, s->mesh, &s->proxies[PROXY_FRONT], projection_size, err);
     return st == LUCENT_OK ? ensure_proxy(ctx, s->mesh, &s->proxies[PROXY_SIDES], side_size, err) : st;
@@ -135,8 +135,7 @@ const struct gpu_geometry *gpu_mesh_geometry(const struct gpu_mesh *m, int which
 }
 
 lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, const lucent_mesh_ref *ref,
-                             int projection_size, int side_size, struct gpu_mesh **out, double *load_ms,
-                             lucent_error *err)
+                             struct gpu_mesh **out, double *load_ms, lucent_error *err)
 {
     char key[sizeof cache->slots[0].key];
     lucent_status st = mesh_key(ref, key, sizeof key, err);
@@ -147,12 +146,9 @@ lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, c
     for (int i = 0; i < MESH_CACHE_SLOTS; i++) {
         struct gpu_mesh *s = &cache->slots[i];
         if (s->mesh && strcmp(s->key, key) == 0) {
-            double t0 = now_ms();
             s->last_used = ++cache->clock;
             *out = s;
-            st = ensure_proxies(ctx, s, projection_size, side_size, err);
-            *load_ms = now_ms() - t0;
-            return st;
+            return LUCENT_OK;
         }
         if (!s->mesh || (victim->mesh && s->last_used < victim->last_used))
             victim = s;
@@ -162,8 +158,6 @@ lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, c
      * synchronous, so none is. */
     slot_clear(ctx, victim);
     st = slot_load(ctx, ref, victim, err);
-    if (st == LUCENT_OK)
-        st = ensure_proxies(ctx, victim, projection_size, side_size, err);
     if (st != LUCENT_OK) {
         slot_clear(ctx, victim);
         return st;

@@ -41,11 +41,12 @@ struct mesh_cache {
 
 enum { PROXY_FRONT = 0, PROXY_SIDES = 1 };
 
-/* Finds or loads the mesh a scene names, with proxies for the front and side image sizes where it
- * needs them. load_ms is the import, simplification and upload time. */
+/* Finds or loads (imports and uploads, load_ms) the mesh a scene names. */
 lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, const lucent_mesh_ref *ref,
-                             int projection_size, int side_size, struct gpu_mesh **out, double *load_ms,
-                             lucent_error *err);
+                             struct gpu_mesh **out, double *load_ms, lucent_error *err);
+/* Builds the proxies the front and side image sizes call for, unless already there. */
+lucent_status mesh_cache_proxies(struct vk_context *ctx, struct gpu_mesh *m, int projection_size, int side_size,
+                                 lucent_error *err);
 /* What a pass drawing for PROXY_FRONT or PROXY_SIDES draws: the proxy, or the full mesh. */
 const struct gpu_geometry *gpu_mesh_geometry(const struct gpu_mesh *m, int which);
 void mesh_cache_destroy(struct vk_context *ctx, struct mesh_cache *cache);

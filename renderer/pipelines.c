@@ -284,17 +284,20 @@ lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, 
     return LUCENT_OK;
 }
 
-lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, int samples, int views,
-                                lucent_sampling sampling, VkPipeline *out, lucent_error *err)
+lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, const struct scatter_variant *v,
+                                VkPipeline *out, lucent_error *err)
 {
-    if (samples < 1 || samples > LUCENT_MAX_SAMPLES || (views != 1 && views != 5))
-        return lucent_fail(err, LUCENT_E_INTERNAL, "", "no scatter pipeline for %d samples, %d views", samples, views);
-    int shared = sampling == LUCENT_SAMPLING_SHARED;
-    size_t slot = ((size_t)(samples - 1) * 2 + (views == 5)) * 2 + (size_t)shared;
+    if (v->samples < 0 || v->samples > LUCENT_MAX_SAMPLES || (v->views != 1 && v->views != 5))
+        return lucent_fail(err, LUCENT_E_INTERNAL, "", "no scatter pipeline for %d samples, %d views", v->samples,
+                           v->views);
+    int shared = v->sampling == LUCENT_SAMPLING_SHARED, front = v->fallback == LUCENT_FALLBACK_FRONT;
+    int single = v->single_scattering != 0;
+    size_t slot = ((((size_t)v->samples * 2 + (v->views == 5)) * 2 + (size_t)shared) * 2 + (size_t)front) * 2 +
+                  (size_t)single;
     if (!p->scatter[slot]) {
-        int32_t values[3] = {samples, views, shared};
-        VkSpecializationMapEntry entries[3] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}};
-        VkSpecializationInfo spec = {3, entries, sizeof values, values};
+        int32_t values[5] = {v->samples, v->views, shared, front, single};
+        VkSpecializationMapEntry entries[5] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}, {3, 12, 4}, {4, 16, 4}};
+        VkSpecializationInfo spec = {5, entries, sizeof values, values};
         lucent_status st = make_scatter_pipeline(ctx, p, &spec, &p->scatter[slot], err);
         if (st != LUCENT_OK)
             return st;

@@ -3,6 +3,7 @@
 #include "reference.h"
 
 #include "bvh.h"
+#include "reference_single.h"
 #include "dipole.h"
 #include "linalg.h"
 
@@ -35,12 +36,6 @@
 /* Shadow rays start this far (times the mesh radius) off the surface so they miss their own triangle. */
 #define SHADOW_OFFSET 1e-6
 
-struct ref_light {
-    int point;           /* 1: vec is a position, 0: the direction the light travels */
-    double vec[3];
-    double rgb[3];       /* color * intensity */
-};
-
 struct point_node {
     double lo[3], hi[3];
     double extent;           /* box diagonal, scene units */
@@ -62,6 +57,8 @@ struct context {
     int brute_force, shadows;
     struct ref_light lights[LUCENT_MAX_LIGHTS];
     int light_count;
+    int single;              /* add the single-scattering term */
+    struct single_scatter ss;
     /* surface sampling */
     double *cum_area;        /* per triangle, inclusive prefix sum, scene units^2 */
     double total_area;
@@ -128,39 +125,6 @@ static int thread_count(const struct reference_options *o)
 
 /* ---- geometry ---- */
 
-static void tri_vertex(const struct lucent_mesh *m, uint32_t t, int k, double out[3])
-{
-    const float *p = &m->positions[(size_t)m->indices[(size_t)t * 3 + k] * 3];
-    out[0] = p[0], out[1] = p[1], out[2] = p[2];
-}
-
-/* Point, unit interpolated normal and unit geometric normal at barycentrics (b1, b2). The shading
- * normal is turned to the side the winding says is outside (files may carry flipped normals). */
-static void surface_at(const struct lucent_mesh *m, uint32_t t, double b1, double b2, double p[3],
-                       double n[3], double g[3])
-{
-    double v[3][3], e1[3], e2[3], w[3] = {1.0 - b1 - b2, b1, b2};
-    for (int k = 0; k < 3; k++)
-        tri_vertex(m, t, k, v[k]);
-    for (int a = 0; a < 3; a++) {
-        e1[a] = v[1][a] - v[0][a];
-        e2[a] = v[2][a] - v[0][a];
-        p[a] = n[a] = 0.0;
-    }
-    v3_cross(e1, e2, g);
-    v3_normalize(g);
-    for (int k = 0; k < 3; k++) {
-        const float *vn = &m->normals[(size_t)m->indices[(size_t)t * 3 + k] * 3];
-        for (int a = 0; a < 3; a++) {
-            p[a] += w[k] * v[k][a];
-            n[a] += w[k] * vn[a];
-        }
-    }
-    double sign = v3_normalize(n) == 0.0 ? 0.0 : v3_dot(n, g) < 0.0 ? -1.0 : 1.0;
-    for (int a = 0; a < 3; a++)
-        n[a] = sign == 0.0 ? g[a] : sign * n[a];
-}
-
 /* ---- irradiance points ---- */
 
 static uint32_t triangle_at(const struct context *ctx, double u)
@@ -217,7 +181,7 @@ static void make_points(struct context *ctx, size_t begin, size_t end)
         double s = fmin(fmax((u - before) / span, 0.0), 1.0);
         double v = fmod((double)j * GOLDEN_FRACTION, 1.0), r = sqrt(s);
         double *p = &ctx->pos[j * 3], n[3], g[3], e[3];
-        surface_at(ctx->mesh, t, r * (1.0 - v), r * v, p, n, g);
+        mesh_surface_at(ctx->mesh, t, r * (1.0 - v), r * v, p, n, g);
         irradiance(ctx, p, n, g, e);
         for (int c = 0; c < 3; c++)
             ctx->flux[j * 3 + c] = e[c] * area_mm2;
@@ -235,7 +199,7 @@ static lucent_status cumulative_area(struct context *ctx, lucent_error *err)
     for (uint32_t t = 0; t < m->triangle_count; t++) {
         double v[3][3], e1[3], e2[3], c[3];
         for (int k = 0; k < 3; k++)
-            tri_vertex(m, t, k, v[k]);
+            mesh_vertex(m, t, k, v[k]);
         for (int a = 0; a < 3; a++) {
             e1[a] = v[1][a] - v[0][a];
             e2[a] = v[2][a] - v[0][a];
@@ -476,7 +440,7 @@ static void shade_pixel(struct context *ctx, int x, int y)
     view_frame_pixel_ray(cam, x, y, img->width, img->height, dir);
     if (!bvh_closest(ctx->bvh, cam->eye, dir, INFINITY, &hit))
         return;
-    surface_at(ctx->mesh, hit.triangle, hit.u, hit.v, p, n, g);
+    mesh_surface_at(ctx->mesh, hit.triangle, hit.u, hit.v, p, n, g);
     /* A back face in view (open mesh, or the eye inside): shade the side facing the camera, as the
      * raster passes do with gl_FrontFacing. */
     if (v3_dot(g, dir) > 0.0)
@@ -489,10 +453,16 @@ static void shade_pixel(struct context *ctx, int x, int y)
     else
         sum_tree(ctx, p, sum, &near);
     add_near_disc(ctx, &near, sum);
-    double k = fresnel_transmittance(ctx->eta, facing) / PI;
+    double k = fresnel_transmittance(ctx->eta, facing) / PI, single[3] = {0.0, 0.0, 0.0};
+    if (ctx->single) {
+        double to_eye[3] = {-dir[0], -dir[1], -dir[2]}, outward[3];
+        for (int a = 0; a < 3; a++)
+            outward[a] = v3_dot(g, dir) > 0.0 ? -g[a] : g[a];
+        single_scatter_radiance(&ctx->ss, p, n, outward, to_eye, single);
+    }
     size_t i = (size_t)y * img->width + x;
     for (int c = 0; c < 3; c++)
-        img->rgba[i * 4 + c] = (float)(sum[c] * k);
+        img->rgba[i * 4 + c] = (float)(sum[c] * k + single[c]);
     img->rgba[i * 4 + 3] = 1.0f;
     if (!img->depth)
         return;
@@ -606,6 +576,11 @@ lucent_status reference_render(const lucent_scene *scene, const struct lucent_me
         (st = choose_point_count(&ctx, options->points, err)) || (st = bvh_build(mesh, &ctx.bvh, err)) ||
         (st = alloc_points(&ctx, err)))
         goto fail;
+    ctx.single = scene->single_scattering;
+    ctx.ss = (struct single_scatter){.mesh = mesh, .bvh = ctx.bvh, .lights = ctx.lights,
+                                     .light_count = ctx.light_count, .shadows = ctx.shadows,
+                                     .scale_mm = scale_mm, .eta = ctx.eta};
+    single_scatter_material(&ctx.ss, &scene->material);
     ctx.point_area_mm2 = ctx.total_area / (double)ctx.point_count * scale_mm * scale_mm;
     ctx.near_radius = NEAR_SPACINGS * sqrt(ctx.total_area / (double)ctx.point_count);
     run_parallel(&ctx, threads, ctx.point_count, 1024, make_points);

@@ -1,5 +1,6 @@
 /* renderer.c - the warm renderer: one Vulkan context, fixed pipelines, size-dependent targets and
  * cached meshes, and lucent_render(), which records and runs the four passes of one frame. */
+#include "auto_plan.h"
 #include "frame_record.h"
 #include "reference.h"
 
@@ -17,6 +18,7 @@ struct lucent_renderer {
     struct mesh_cache meshes;
     VkQueryPool queries;
     struct frame_plan plan;   /* rebuilt every frame; lives here to keep 4 KB of samples off the stack */
+    struct auto_plan chosen;  /* method "auto": the scene actually rendered */
     int verbose;
 };
 
@@ -167,25 +169,41 @@ static lucent_status read_image(lucent_renderer *r, int with_aovs, lucent_image 
     return LUCENT_OK;
 }
 
-static void describe(const lucent_scene *s, const struct frame_plan *plan, const struct gpu_mesh *gm,
-                     lucent_stats *stats)
+static const char *method_name(lucent_method m)
 {
-    char lights[512] = "";
+    switch (m) {
+    case LUCENT_METHOD_SINGLE: return "single";
+    case LUCENT_METHOD_REFERENCE: return "reference";
+    case LUCENT_METHOD_AUTO: return "auto";
+    default: return "five";
+    }
+}
+
+/* requested: the scene as asked; s: as rendered (differs for method "auto", whose choices follow). */
+static void describe(const lucent_scene *requested, const lucent_scene *s, const struct auto_plan *chosen,
+                     const struct frame_plan *plan, const struct gpu_mesh *gm, lucent_stats *stats)
+{
+    char lights[512] = "", choices[sizeof chosen->decisions + 16] = "";
     size_t n = 0;
-    int shared = s->sampling == LUCENT_SAMPLING_SHARED;
+    int shared = s->sampling == LUCENT_SAMPLING_SHARED, samples = plan->scatter_samples;
     for (int l = 0; l < s->light_count && n < sizeof lights; l++)
         n += (size_t)snprintf(lights + n, sizeof lights - n, "%s\"%s\"", l ? "," : "", plan->shadow_reason[l]);
+    if (chosen)
+        snprintf(choices, sizeof choices, "\"auto\":{%s},", chosen->decisions);
     snprintf(stats->modelled, sizeof stats->modelled,
-             "{\"method\":\"%s\",\"views\":%d,\"samples_per_channel\":%d,\"sampling\":\"%s\","
-             "\"texel_fetches_per_pixel\":%d,\"projection_size\":%d,\"side_projection_size\":%d,"
-             "\"scale_mm\":%.9g,\"shadows\":[%s],"
+             "{\"method\":\"%s\",%s\"views\":%d,\"subsurface\":\"%s\",\"samples_per_channel\":%d,"
+             "\"sampling\":\"%s\",\"texel_fetches_per_pixel\":%d,\"projection_size\":%d,"
+             "\"side_projection_size\":%d,\"scale_mm\":%.9g,\"shadows\":[%s],"
              "\"projection_triangles\":{\"front\":%u,\"sides_and_shadows\":%u},"
-             "\"hidden_point_fallback\":\"next best-facing visible view, then front\","
-             "\"single_scattering\":false}",
-             s->method == LUCENT_METHOD_SINGLE ? "single" : "five", plan->view_count, s->samples,
-             shared ? "shared" : "per_channel", shared ? s->samples : 3 * s->samples, s->projection_size,
+             "\"hidden_point_fallback\":\"%s\",\"single_scattering\":%s}",
+             method_name(requested->method), choices, plan->view_count,
+             samples ? "sampled dipole" : "diffuse limit (irradiance x total R_d)", samples,
+             shared ? "shared" : "per_channel", samples ? (shared ? samples : 3 * samples) : 1, s->projection_size,
              plan->view_count > 1 ? plan->side_projection_size : 0, plan->scale_mm, lights,
-             gpu_mesh_geometry(gm, PROXY_FRONT)->index_count / 3, gpu_mesh_geometry(gm, PROXY_SIDES)->index_count / 3);
+             gpu_mesh_geometry(gm, PROXY_FRONT)->index_count / 3, gpu_mesh_geometry(gm, PROXY_SIDES)->index_count / 3,
+             plan->view_count == 1 || s->fallback == LUCENT_FALLBACK_FRONT ? "front"
+                                                                           : "next best-facing visible view, then front",
+             s->single_scattering ? "true" : "false");
     stats->triangles = gm->mesh->triangle_count;
     stats->proxy_triangles = gm->proxies[PROXY_FRONT].triangles;
     stats->shadow_maps = plan->shadow_count;
@@ -213,10 +231,10 @@ static lucent_status render_reference(const lucent_scene *scene, const struct gp
     snprintf(stats->modelled, sizeof stats->modelled,
              "{\"method\":\"reference\",\"scale_mm\":%.9g,\"points\":%u,\"point_spacing_mm\":%.6g,"
              "\"min_mean_free_path_mm\":%.6g,\"sum\":\"%s\",\"threshold\":%.6g,\"estimated_rel_error\":%.3g,"
-             "\"ms_points\":%.3f,\"ms_pixels\":%.3f,\"single_scattering\":false}",
+             "\"ms_points\":%.3f,\"ms_pixels\":%.3f,\"single_scattering\":%s}",
              scale_mm, report.points, report.point_spacing_mm, report.min_mean_free_path_mm,
              options.brute_force ? "brute force" : "hierarchical", report.threshold, report.estimated_rel_error,
-             report.ms_points, report.ms_pixels);
+             report.ms_points, report.ms_pixels, scene->single_scattering ? "true" : "false");
     return LUCENT_OK;
 }
 
@@ -234,22 +252,33 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
     struct frame_plan *plan = &r->plan;
     lucent_status st;
     if ((st = check_scene(scene, err)) ||
-        (st = mesh_cache_get(&r->ctx, &r->meshes, &scene->mesh, scene->projection_size,
-                                    frame_side_projection_size(scene), &gm, &stats->ms_mesh_load, err)))
+        (st = mesh_cache_get(&r->ctx, &r->meshes, &scene->mesh, &gm, &stats->ms_mesh_load, err)))
         return st;
     if (scene->method == LUCENT_METHOD_REFERENCE) {
         st = render_reference(scene, gm, out, stats, err);
         stats->ms_total = now_ms() - t0;
         return st;
     }
+    const lucent_scene *s = scene;
+    struct auto_plan *chosen = NULL;
+    if (scene->method == LUCENT_METHOD_AUTO) {
+        if ((st = auto_plan_choose(scene, gm->mesh, &r->chosen, err)))
+            return st;
+        chosen = &r->chosen;
+        s = &chosen->scene;
+    }
+    double t_proxies = now_ms();
+    if ((st = mesh_cache_proxies(&r->ctx, gm, s->projection_size, frame_side_projection_size(s), err)))
+        return st;
+    stats->ms_mesh_load += now_ms() - t_proxies;
     int proxied = gm->proxies[PROXY_FRONT].triangles || gm->proxies[PROXY_SIDES].triangles;
     double tolerance = proxied ? PROXY_TOLERANCE * gm->mesh->radius : 0.0;
-    if ((st = frame_plan_build(scene, gm->mesh, tolerance, plan, err)) ||
-        (st = ensure_targets(r, scene, plan->side_projection_size, err)))
+    if ((st = frame_plan_build(s, gm->mesh, tolerance, chosen && chosen->diffuse_limit, plan, err)) ||
+        (st = ensure_targets(r, s, plan->side_projection_size, err)))
         return st;
     memcpy(r->uniforms.mapped, &plan->uniforms, sizeof plan->uniforms);
     struct frame_gpu gpu = {&r->ctx, &r->pipes, &r->targets, r->queries};
-    if ((st = frame_record(&gpu, scene, plan, gm, err)) || (st = vk_submit_and_wait(&r->ctx, err)))
+    if ((st = frame_record(&gpu, s, plan, gm, err)) || (st = vk_submit_and_wait(&r->ctx, err)))
         return st;
     read_pass_times(r, stats);
     double t1 = now_ms();
@@ -257,7 +286,7 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
         return st;
     stats->ms_readback = now_ms() - t1;
     stats->ms_total = now_ms() - t0;
-    describe(scene, plan, gm, stats);
+    describe(scene, s, chosen, plan, gm, stats);
     return LUCENT_OK;
 }
 

@@ -47,6 +47,7 @@ static const range R_SIDE = {1, LUCENT_MAX_IMAGE_SIDE, 0, NULL};
 static const range R_SAMPLES = {1, LUCENT_MAX_SAMPLES, 0, NULL};
 static const range R_PROJECTION = {LUCENT_MIN_PROJECTION_SIZE, LUCENT_MAX_PROJECTION_SIZE, 0, NULL};
 static const range R_TRIANGLES = {0, LUCENT_MAX_BUILTIN_TRIANGLES, 0, NULL};
+static const range R_G = {-LUCENT_MAX_G, LUCENT_MAX_G, 0, "sigma_s = sigma_s' / (1 - g) diverges as |g| nears 1"};
 
 #define DEFAULT_SIDE 512
 #define DEFAULT_SAMPLES 16
@@ -63,7 +64,12 @@ static const char *const light_type_names[] = {
     [LUCENT_LIGHT_DIRECTIONAL] = "directional", [LUCENT_LIGHT_POINT] = "point", NULL};
 static const char *const method_names[] = {
     [LUCENT_METHOD_FIVE] = "five", [LUCENT_METHOD_SINGLE] = "single", [LUCENT_METHOD_REFERENCE] = "reference",
-    NULL};
+    [LUCENT_METHOD_AUTO] = "auto", NULL};
+static const char *const fallback_names[] = {
+    [LUCENT_FALLBACK_NEXT_BEST] = "next_best", [LUCENT_FALLBACK_FRONT] = "front", NULL};
+/* Fields method "auto" chooses itself; giving one with it is a conflict, not silently ignored. */
+static const char *const auto_chosen_keys[] = {"samples", "sampling", "projection_size", "side_projection_size",
+                                               NULL};
 static const char *const sampling_names[] = {
     [LUCENT_SAMPLING_SHARED] = "shared", [LUCENT_SAMPLING_PER_CHANNEL] = "per_channel", NULL};
 static const char *const format_names[] = {
@@ -72,10 +78,11 @@ static const char *const format_names[] = {
 static const char *const top_keys[] = {"mesh", "scale_mm", "material", "lights", "camera",
                                        "width", "height", "method", "samples", "sampling",
                                        "projection_size", "side_projection_size", "background",
-                                       "exposure", "format", "reference", NULL};
+                                       "exposure", "format", "reference", "fallback",
+                                       "single_scattering", NULL};
 static const char *const reference_keys[] = {"points", "threshold", NULL};
 static const char *const mesh_keys[] = {"builtin", "triangles", "file", "id", NULL};
-static const char *const material_keys[] = {"preset", "sigma_a", "sigma_s_prime", "eta", NULL};
+static const char *const material_keys[] = {"preset", "sigma_a", "sigma_s_prime", "eta", "g", NULL};
 static const char *const directional_keys[] = {"type", "direction", "color", "intensity", NULL};
 static const char *const point_keys[] = {"type", "position", "color", "intensity", NULL};
 static const char *const camera_keys[] = {"position", "target", "up", "fov_deg", NULL};
@@ -455,16 +462,16 @@ static lucent_status parse_preset(json_t *obj, lucent_material *mat, lucent_erro
     /* Checked first: with a preset present, any other key is a conflict, not merely unknown. */
     for (void *it = json_object_iter(obj); it; it = json_object_iter_next(obj, it)) {
         char path[PATH_CAP];
-        if (strcmp(json_object_iter_key(it), "preset") == 0)
+        if (strcmp(json_object_iter_key(it), "preset") == 0 || strcmp(json_object_iter_key(it), "g") == 0)
             continue;
         path_key(path, "material", json_object_iter_key(it));
         return lucent_fail(err, LUCENT_E_INVALID, path,
-                           "cannot be combined with \"preset\"; give either a preset or "
-                           "\"sigma_a\", \"sigma_s_prime\" and optionally \"eta\"");
+                           "cannot be combined with \"preset\"; give either a preset (and optionally "
+                           "\"g\") or \"sigma_a\", \"sigma_s_prime\" and optionally \"eta\" and \"g\"");
     }
     const json_t *v = json_object_get(obj, "preset");
     if (json_is_string(v) && lucent_material_preset(json_string_value(v), mat) == LUCENT_OK)
-        return LUCENT_OK;
+        return get_number(obj, "material", "g", &R_G, &mat->g, err);
     while (n + 1 < (int)(sizeof names / sizeof names[0]) &&
            (names[n] = lucent_material_preset_name(n)) != NULL)
         n++;
@@ -485,6 +492,8 @@ static lucent_status parse_coefficients(json_t *obj, lucent_material *mat, lucen
         st = get_vec(obj, "material", "sigma_s_prime", 3, &R_SIGMA_S_PRIME, m.sigma_s_prime, err);
     if (st == LUCENT_OK)
         st = get_number(obj, "material", "eta", &R_ETA, &m.eta, err);
+    if (st == LUCENT_OK)
+        st = get_number(obj, "material", "g", &R_G, &m.g, err);
     if (st == LUCENT_OK)
         *mat = m;
     return st;
@@ -645,9 +654,32 @@ static lucent_status parse_side_projection(json_t *doc, lucent_scene *s, lucent_
     return get_int(doc, "", "side_projection_size", &r, &s->side_projection_size, err);
 }
 
+static lucent_status get_bool(const json_t *obj, const char *key, int *out, lucent_error *err)
+{
+    const json_t *v = json_object_get(obj, key);
+    if (!v)
+        return LUCENT_OK;
+    if (!json_is_boolean(v)) {
+        char got[96];
+        describe(v, got, sizeof got);
+        return lucent_fail(err, LUCENT_E_INVALID, key, "must be true or false (got %s)", got);
+    }
+    *out = json_is_true(v);
+    return LUCENT_OK;
+}
+
+static lucent_status check_auto_conflicts(json_t *doc, const lucent_scene *s, lucent_error *err)
+{
+    for (int i = 0; s->method == LUCENT_METHOD_AUTO && auto_chosen_keys[i]; i++)
+        if (json_object_get(doc, auto_chosen_keys[i]))
+            return lucent_fail(err, LUCENT_E_INVALID, auto_chosen_keys[i],
+                               "is chosen by method \"auto\"; remove it or pick method \"five\" or \"single\"");
+    return LUCENT_OK;
+}
+
 static lucent_status parse_output(json_t *doc, lucent_scene *s, lucent_error *err)
 {
-    int method = s->method, format = s->format, sampling = s->sampling;
+    int method = s->method, format = s->format, sampling = s->sampling, fallback = s->fallback;
     lucent_status st = get_int(doc, "", "width", &R_SIDE, &s->width, err);
     if (st == LUCENT_OK)
         st = get_int(doc, "", "height", &R_SIDE, &s->height, err);
@@ -667,7 +699,14 @@ static lucent_status parse_output(json_t *doc, lucent_scene *s, lucent_error *er
         st = get_number(doc, "", "exposure", &R_EXPOSURE, &s->exposure, err);
     if (st == LUCENT_OK)
         st = get_enum(doc, "", "format", format_names, &format, err);
+    if (st == LUCENT_OK)
+        st = get_enum(doc, "", "fallback", fallback_names, &fallback, err);
+    if (st == LUCENT_OK)
+        st = get_bool(doc, "single_scattering", &s->single_scattering, err);
+    s->fallback = (lucent_fallback)fallback;
     s->method = (lucent_method)method;
+    if (st == LUCENT_OK)
+        st = check_auto_conflicts(doc, s, err);
     s->sampling = (lucent_sampling)sampling;
     s->format = (lucent_format)format;
     return st;

@@ -4,6 +4,9 @@
 #define MAX_LIGHTS 4
 #define MAX_SAMPLES 64
 #define PI 3.14159265358979
+// Texel footprint on the surface grows as 1/cos to the view; past this cosine the estimate is
+// dominated by noise from grazing texels that other views cover better.
+const float MIN_AREA_COS = 0.1;
 
 layout(std140, set = 0, binding = 0) uniform Frame {
     mat4 view_clip[MAX_VIEWS];     // world -> clip of projection image k (orthographic)
@@ -15,12 +18,14 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     vec4 light_rgb[MAX_LIGHTS];    // rgb: colour * intensity; w: shadow map layer
     mat4 light_clip[MAX_LIGHTS];   // world -> shadow map clip
     vec4 light_depth[MAX_LIGHTS];  // x near, y far, z 1 = perspective, w bias (scene units)
-    vec4 params;                   // x eta, y mm per scene unit, z depth tolerance (scene units)
+    vec4 params;                   // x eta, y mm per scene unit, z depth tolerance (scene units), w lights
     vec4 camera_eye;               // xyz camera position
     vec4 sigma_tr;                 // mm^-1 per channel
     vec4 z_r;                      // mm
     vec4 z_v;                      // mm
     vec4 alpha_prime;
+    vec4 rd_total;                 // xyz: R_d integrated out to the truncation radius (diffuse limit)
+    vec4 single_albedo;            // xyz: sigma_s / sigma_t (single scattering); w: g
     // Per channel (c * MAX_SAMPLES + j), or shared (first n): x radius (mm), y weight (1 / (n pdf)),
     // zw unit direction on the projection plane.
     vec4 samples[3 * MAX_SAMPLES];

@@ -16,10 +16,6 @@ layout(location = 0) out vec4 out_flux_depth;
 layout(constant_id = 0) const int LIGHT_COUNT = 1;
 layout(constant_id = 1) const int SHADOW_MASK = 0;
 
-// Texel footprint on the surface grows as 1/cos; past this cosine the estimate is dominated by
-// noise from grazing texels that other views cover better.
-const float MIN_AREA_COS = 0.1;
-
 // Fraction of light l reaching p: one hardware-filtered comparison (2x2 PCF). The bias is applied
 // to the linear depth (scene units) and converted back to the map's depth encoding.
 float shadow_visibility(int l, vec3 p)

@@ -14,9 +14,11 @@ layout(push_constant) uniform Push { ivec2 size; } push;
 
 // Specialized per request (pipelines.c): constant loop bounds unroll, and CPU drivers pay for
 // untaken branches, so the sampling scheme is chosen at pipeline creation.
-layout(constant_id = 0) const int SAMPLES = 16;          // per channel
+layout(constant_id = 0) const int SAMPLES = 16;          // per channel; 0: diffuse limit
 layout(constant_id = 1) const int VIEW_COUNT = 5;
 layout(constant_id = 2) const bool SHARED_SAMPLES = true;
+layout(constant_id = 3) const bool FRONT_FALLBACK = false; // the paper's: hidden in the best view -> front
+layout(constant_id = 4) const bool SINGLE_SCATTERING = false;
 
 vec2 texel_coord(int k, vec3 p)
 {
@@ -48,11 +50,12 @@ bool visible_in(int k, vec3 p, vec3 n)
 }
 
 // Best-facing view in which the point is visible; views facing away are never used.
-// Falls back to the front view (0), as the paper does, when no facing view sees the point.
+// Falls back to the front view (0), as the paper does, when no facing view sees the point, or at
+// once when FRONT_FALLBACK is set.
 int choose_view(vec3 p, vec3 n)
 {
     uint tried = 0u;
-    for (int attempt = 0; attempt < VIEW_COUNT; attempt++) {
+    for (int attempt = 0; attempt < (FRONT_FALLBACK ? 1 : VIEW_COUNT); attempt++) {
         int best = -1;
         float best_score = 0.0;
         for (int k = 0; k < VIEW_COUNT; k++) {
@@ -69,6 +72,13 @@ int choose_view(vec3 p, vec3 n)
         tried |= 1u << best;
     }
     return 0;
+}
+
+// Texels hold irradiance per unit of image area (projection.frag); per unit of surface area it is
+// smaller by the cosine to the view, with the same floor.
+vec3 surface_irradiance(int k, ivec2 t, vec3 n)
+{
+    return texelFetch(projection_images, ivec3(t, k), 0).rgb * max(dot(n, -frame.view_dir[k].xyz), MIN_AREA_COS);
 }
 
 float dipole_rd(int c, float r)
@@ -116,6 +126,9 @@ vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px)
     float home_depth = inside(k, home) ? texelFetch(projection_images, ivec3(home, k), 0).a : -1.0;
     if (home_depth >= 0.0)
         depth = home_depth + dot(center - (vec2(home) + 0.5), slope);
+    // Kernels far below a texel: the sum is the point's own irradiance times the integral of R_d.
+    if (SAMPLES == 0)
+        return home_depth >= 0.0 ? surface_irradiance(k, home, n) * frame.rd_total.rgb : vec3(0.0);
     vec3 sum = vec3(0.0);
     for (int c = 0; c < (SHARED_SAMPLES ? 1 : 3); c++) {
         for (int j = 0; j < SAMPLES; j++) {
@@ -140,6 +153,54 @@ vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px)
     return sum;
 }
 
+float refracted_cosine(float cos_out)
+{
+    float eta = frame.params.x;
+    return sqrt(max(1.0 - (1.0 - cos_out * cos_out) / (eta * eta), 0.0));
+}
+
+// Irradiance entering at p from light l, unshadowed: colour x falloff x cos x Ft; w: the cosine.
+vec4 light_at(int l, vec3 p, vec3 n, out vec3 to_light)
+{
+    vec4 lv = frame.light_vec[l];
+    vec3 d = lv.w > 0.5 ? lv.xyz - p : -lv.xyz;
+    float falloff = lv.w > 0.5 ? 1.0 / max(dot(d, d), 1e-30) : 1.0;
+    to_light = normalize(d);
+    float c = dot(n, to_light);
+    return vec4(frame.light_rgb[l].rgb * falloff * c * fresnel_transmittance(frame.params.x, c), c);
+}
+
+// Jensen et al. 2001's single-scattering term with the surface taken as flat at p: light refracted
+// in along one straight path, scattered once (Henyey-Greenstein), attenuated by sigma_t both ways:
+// L = albedo p(g) Ft_in Ft_out E cos_i / (cos'_i + cos'_o). Shadowed lights are scaled by p's own
+// texel in the projection image over their unshadowed irradiance, which is exact for one light.
+vec3 single_scattered(vec3 p, vec3 n, vec3 to_eye, vec3 lit)
+{
+    float cos_o = dot(n, to_eye);
+    if (cos_o <= 0.0)
+        return vec3(0.0);
+    float eta = frame.params.x, g = frame.single_albedo.w;
+    float cos_o_in = refracted_cosine(cos_o);
+    vec3 out_dir = -refract(-to_eye, n, 1.0 / eta);   // travel direction inside, towards the exit
+    vec3 free_sum = vec3(0.0), shadowed_sum = vec3(0.0), free_e = vec3(0.0), shadowed_e = vec3(0.0);
+    for (int l = 0; l < int(frame.params.w); l++) {
+        vec3 to_light;
+        vec4 e = light_at(l, p, n, to_light);
+        if (e.w <= 0.0)
+            continue;
+        float mu = dot(refract(-to_light, n, 1.0 / eta), out_dir);
+        float hg = (1.0 - g * g) / (4.0 * PI * pow(max(1.0 + g * g - 2.0 * g * mu, 1e-6), 1.5));
+        vec3 term = e.rgb * hg / (refracted_cosine(e.w) + cos_o_in);
+        bool has_shadow_map = frame.light_rgb[l].w >= 0.0;
+        free_sum += has_shadow_map ? vec3(0.0) : term;
+        free_e += has_shadow_map ? vec3(0.0) : e.rgb;
+        shadowed_sum += has_shadow_map ? term : vec3(0.0);
+        shadowed_e += has_shadow_map ? e.rgb : vec3(0.0);
+    }
+    vec3 visible = clamp((lit - free_e) / max(shadowed_e, vec3(1e-30)), 0.0, 1.0);
+    return (free_sum + visible * shadowed_sum) * frame.single_albedo.rgb * fresnel_transmittance(eta, cos_o);
+}
+
 void main()
 {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
@@ -159,7 +220,13 @@ void main()
     int k = choose_view(p, n);
     vec3 to_eye = normalize(frame.camera_eye.xyz - p);
     float ft_out = fresnel_transmittance(frame.params.x, dot(n, to_eye));
-    out_color[idx] = vec4(scattered_light(k, p, n, px) * (ft_out / PI), 1.0);
+    vec3 radiance = scattered_light(k, p, n, px) * (ft_out / PI);
+    if (SINGLE_SCATTERING) {
+        ivec2 home = ivec2(floor(texel_coord(k, p)));
+        bool seen = inside(k, home) && texelFetch(projection_images, ivec3(home, k), 0).a >= 0.0;
+        radiance += single_scattered(p, n, to_eye, seen ? surface_irradiance(k, home, n) : vec3(0.0));
+    }
+    out_color[idx] = vec4(radiance, 1.0);
     out_normal_view[idx] = vec4(n, float(k));
     out_depth[idx] = position_depth.w;
 }

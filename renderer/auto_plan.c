@@ -1,0 +1,123 @@
+/* auto_plan.c - method "auto": sizes the projection images to the object's pixel footprint, picks samples
+ * from how many texels the kernel covers, and drops work no pixel needs (side views, sampling). */
+#include "auto_plan.h"
+
+#include "dipole.h"
+#include "frame_plan.h"
+#include "linalg.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+#define KERNEL_ENERGY 0.95
+#define AUTO_MIN_PROJECTION 64
+
+static int next_pow2(double x, int lo, int hi)
+{
+    int p = lo;
+    while (p < hi && p < x)
+        p *= 2;
+    return p;
+}
+
+/* Radius (mm) holding KERNEL_ENERGY of R_d's integral out to r_max: bisection on the closed-form disc. */
+static double kernel_radius(const struct dipole *d, double r_max)
+{
+    double target = KERNEL_ENERGY * dipole_rd_disc(d, r_max), lo = 0.0, hi = r_max;
+    for (int i = 0; i < 60; i++) {
+        double mid = 0.5 * (lo + hi);
+        if (dipole_rd_disc(d, mid) < target)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return hi;
+}
+
+/* The bounding sphere's diameter in pixels; the camera inside it sees it larger than any image. */
+static double object_pixels(const lucent_scene *s, const struct view_frame *cam, double radius)
+{
+    double depth = -v3_dot(cam->forward, cam->eye);
+    if (depth <= radius)
+        return INFINITY;
+    double t = tan(asin(radius / depth));
+    return fmax(s->height * t / cam->half_h, s->width * t / cam->half_w);
+}
+
+/* 1 when some triangle the camera can see faces a side view more than the front one, i.e. when a
+ * pixel could select a side image (the scatter pass picks the best-facing view). */
+static int sides_needed(const struct lucent_mesh *m, const struct view_frame *cam)
+{
+    for (uint32_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t *i = &m->indices[(size_t)t * 3];
+        double v[3][3], e1[3], e2[3], n[3], to_eye[3];
+        for (int k = 0; k < 3; k++)
+            for (int a = 0; a < 3; a++)
+                v[k][a] = m->positions[(size_t)i[k] * 3 + a];
+        for (int a = 0; a < 3; a++) {
+            e1[a] = v[1][a] - v[0][a];
+            e2[a] = v[2][a] - v[0][a];
+            to_eye[a] = cam->eye[a] - v[0][a];
+        }
+        v3_cross(e1, e2, n);
+        double toward = v3_dot(n, to_eye);
+        if (toward == 0.0 || (m->closed && toward < 0.0))
+            continue;
+        double s = toward > 0.0 ? 1.0 : -1.0;  /* an open mesh shows the side facing the eye */
+        double front = -s * v3_dot(n, cam->forward);
+        if (fabs(v3_dot(n, cam->right)) > front || fabs(v3_dot(n, cam->down)) > front)
+            return 1;
+    }
+    return 0;
+}
+
+lucent_status auto_plan_choose(const lucent_scene *scene, const struct lucent_mesh *mesh, struct auto_plan *out,
+                               lucent_error *err)
+{
+    struct view_frame cam;
+    lucent_status st = frame_camera(scene, mesh, &cam, err);
+    if (st != LUCENT_OK)
+        return st;
+    lucent_scene *s = &out->scene;
+    *s = *scene;
+    double radius = mesh->radius * FRAME_FIT_MARGIN;
+    out->object_pixels = object_pixels(scene, &cam, radius);
+    double scale_mm = frame_scale_mm(scene, mesh), r_max = 2.0 * mesh->radius * scale_mm;
+    double widest = 0.0, narrowest = INFINITY;
+    for (int c = 0; c < 3; c++) {
+        struct dipole d;
+        dipole_init(&d, scene->material.sigma_a[c], scene->material.sigma_s_prime[c], scene->material.eta);
+        double r = kernel_radius(&d, r_max);
+        widest = fmax(widest, r);
+        narrowest = fmin(narrowest, r);
+    }
+    /* One texel per pixel while the kernel blurs over several; a narrower kernel shows the
+     * irradiance itself (shadow edges, the terminator), which then gets two texels per pixel. */
+    double object_mm = 2.0 * radius * scale_mm;
+    s->projection_size = next_pow2(out->object_pixels - 0.5, AUTO_MIN_PROJECTION, LUCENT_MAX_PROJECTION_SIZE);
+    if (widest / (object_mm / s->projection_size) < AUTO_SHARP_KERNEL_TEXELS)
+        s->projection_size = next_pow2(2.0 * out->object_pixels - 0.5, AUTO_MIN_PROJECTION, LUCENT_MAX_PROJECTION_SIZE);
+    s->side_projection_size = 0;
+    out->kernel_texels = widest / (object_mm / s->projection_size);
+    out->diffuse_limit = out->kernel_texels < AUTO_DIFFUSE_LIMIT_TEXELS;
+    double covered = PI * out->kernel_texels * out->kernel_texels;
+    s->samples = next_pow2(covered, AUTO_MIN_SAMPLES, AUTO_MAX_SAMPLES);
+    int per_channel = !out->diffuse_limit && widest > AUTO_PER_CHANNEL_SPREAD * narrowest;
+    /* Per-channel sampling fetches three times per sample: half the samples keep it near the budget. */
+    if (per_channel)
+        s->samples = s->samples / 2 > AUTO_MIN_SAMPLES ? s->samples / 2 : AUTO_MIN_SAMPLES;
+    s->sampling = per_channel ? LUCENT_SAMPLING_PER_CHANNEL : LUCENT_SAMPLING_SHARED;
+    int sides = sides_needed(mesh, &cam);
+    s->method = sides ? LUCENT_METHOD_FIVE : LUCENT_METHOD_SINGLE;
+    snprintf(out->decisions, sizeof out->decisions,
+             "\"object_pixels\":%.1f,\"kernel_radius_texels\":%.3g,\"kernel_spread\":%.3g,"
+             "\"views_reason\":\"%s\",\"sampling_reason\":\"%s\"",
+             isfinite(out->object_pixels) ? out->object_pixels : -1.0, out->kernel_texels, widest / narrowest,
+             sides ? "visible surface faces a side view" : "no visible surface faces a side view",
+             out->diffuse_limit ? "diffuse limit: 95% of R_d within half a texel"
+             : per_channel      ? "channel kernels differ over 3x: per channel"
+                                : "samples cover the kernel's texels, shared by the channels");
+    return LUCENT_OK;
+}

@@ -1,0 +1,112 @@
+/* reference_single.c - the single-scattering ground truth: no flat-surface assumption, true path lengths
+ * to the surface by ray casting, Jensen 2001's refraction correction of the light path, shadow rays. */
+#include "reference_single.h"
+
+#include "dipole.h"
+#include "linalg.h"
+
+#include <float.h>
+#include <math.h>
+
+#define PI 3.14159265358979323846
+/* Stratified distances along the refracted view ray, per channel. */
+#define PATH_SAMPLES 16
+/* Rays start this far (times the mesh radius) off the surface so they miss their own triangle. */
+#define RAY_OFFSET 1e-6
+
+void single_scatter_material(struct single_scatter *ss, const lucent_material *m)
+{
+    ss->g = m->g;
+    for (int c = 0; c < 3; c++) {
+        ss->sigma_s[c] = m->sigma_s_prime[c] / (1.0 - m->g);
+        ss->sigma_t[c] = ss->sigma_s[c] + m->sigma_a[c];
+    }
+}
+
+/* Direction of a ray travelling along unit d refracted into the medium at unit normal n (outward,
+ * dot(d, n) < 0), relative index eta >= 1: never total internal reflection. */
+static void refract_in(const double d[3], const double n[3], double eta, double out[3])
+{
+    double c = -v3_dot(d, n), k = 1.0 - (1.0 - c * c) / (eta * eta);
+    double a = 1.0 / eta, b = c / eta - sqrt(fmax(k, 0.0));
+    for (int i = 0; i < 3; i++)
+        out[i] = a * d[i] + b * n[i];
+    v3_normalize(out);
+}
+
+static double henyey_greenstein(double g, double mu)
+{
+    return (1.0 - g * g) / (4.0 * PI * pow(fmax(1.0 + g * g - 2.0 * g * mu, 1e-12), 1.5));
+}
+
+/* Light from light l scattered at x (inside) towards travel direction out_dir, per unit path length
+ * and per unit sigma_s, with the attenuation of its path inside: p(g) Phi e^(-sigma_t s'_i). */
+static void lit_from(const struct single_scatter *ss, const struct ref_light *light, const double x[3],
+                     const double out_dir[3], double out[3])
+{
+    double to_light[3], t_light = INFINITY;
+    out[0] = out[1] = out[2] = 0.0;
+    if (light->point) {
+        for (int a = 0; a < 3; a++)
+            to_light[a] = light->vec[a] - x[a];
+        t_light = v3_normalize(to_light);
+    } else {
+        for (int a = 0; a < 3; a++)
+            to_light[a] = -light->vec[a];
+    }
+    struct bvh_hit hit;
+    if (!bvh_closest(ss->bvh, x, to_light, t_light, &hit))
+        return;   /* open mesh or light inside: no surface between the point and the light */
+    double xi[3], ni[3], gi[3];
+    mesh_surface_at(ss->mesh, hit.triangle, hit.u, hit.v, xi, ni, gi);
+    double cos_i = v3_dot(ni, to_light);
+    if (cos_i <= 0.0 || v3_dot(gi, to_light) <= 0.0)
+        return;   /* the ray leaves through a face turned from the light */
+    double origin[3], falloff = 1.0, remaining = t_light - hit.t;
+    v3_scale_add(xi, gi, RAY_OFFSET * ss->mesh->radius, origin);
+    if (ss->shadows && bvh_occluded(ss->bvh, origin, to_light, remaining))
+        return;
+    if (light->point)
+        falloff = 1.0 / fmax(remaining * remaining, DBL_MIN);
+    double cos_in = sqrt(fmax(1.0 - (1.0 - cos_i * cos_i) / (ss->eta * ss->eta), 0.0));
+    double in_dir[3], back[3] = {-to_light[0], -to_light[1], -to_light[2]};
+    refract_in(back, ni, ss->eta, in_dir);
+    double phase = henyey_greenstein(ss->g, v3_dot(in_dir, out_dir));
+    /* Jensen 2001: the straight distance to the entry point, corrected for refraction. */
+    double path_mm = hit.t * ss->scale_mm * cos_i / fmax(cos_in, 1e-12);
+    double fluence = falloff * fresnel_transmittance(ss->eta, cos_i) * cos_i / fmax(cos_in, 1e-12);
+    for (int c = 0; c < 3; c++)
+        out[c] = light->rgb[c] * phase * fluence * exp(-ss->sigma_t[c] * path_mm);
+}
+
+void single_scatter_radiance(const struct single_scatter *ss, const double p[3], const double n[3],
+                             const double g[3], const double to_eye[3], double out[3])
+{
+    out[0] = out[1] = out[2] = 0.0;
+    double cos_o = v3_dot(n, to_eye);
+    if (cos_o <= 0.0)
+        return;
+    double out_dir[3], into[3], start[3];
+    double back[3] = {-to_eye[0], -to_eye[1], -to_eye[2]};
+    refract_in(back, n, ss->eta, into);   /* the view ray continued into the medium */
+    for (int a = 0; a < 3; a++)
+        out_dir[a] = -into[a];            /* light travels the other way, towards the eye */
+    v3_scale_add(p, g, -RAY_OFFSET * ss->mesh->radius, start);
+    struct bvh_hit exit;
+    double t_exit_mm = bvh_closest(ss->bvh, start, into, INFINITY, &exit) ? exit.t * ss->scale_mm : INFINITY;
+    for (int c = 0; c < 3; c++) {
+        /* Distances stratified over e^(-sigma_t s) on [0, t_exit]: the estimate of the integral of
+         * sigma_s L(s) e^(-sigma_t s) ds is sum_j sigma_s L(s_j) mass / (n sigma_t). */
+        double st = ss->sigma_t[c], mass = -expm1(-st * t_exit_mm);
+        for (int j = 0; j < PATH_SAMPLES; j++) {
+            double s_mm = -log1p(-(j + 0.5) / PATH_SAMPLES * mass) / st, x[3], lit[3], sum = 0.0;
+            v3_scale_add(start, into, s_mm / ss->scale_mm, x);
+            for (int l = 0; l < ss->light_count; l++) {
+                lit_from(ss, &ss->lights[l], x, out_dir, lit);
+                sum += lit[c];
+            }
+            out[c] += ss->sigma_s[c] * sum * mass / (PATH_SAMPLES * st);
+        }
+        out[c] *= fresnel_transmittance(ss->eta, cos_o);
+    }
+}
