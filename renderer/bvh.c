@@ -214,6 +214,12 @@ static double box_entry(const struct bvh_node *n, const struct ray *r, double t_
 {
     double t0 = 0.0, t1 = t_max;
     for (int a = 0; a < 3; a++) {
+        /* Parallel to a slab: 0 * inf would be NaN where the origin lies on the box's face. */
+        if (r->d[a] == 0.0) {
+            if (r->o[a] < n->lo[a] || r->o[a] > n->hi[a])
+                return -1.0;
+            continue;
+        }
         double ta = (n->lo[a] - r->o[a]) * r->inv[a], tb = (n->hi[a] - r->o[a]) * r->inv[a];
         t0 = fmax(t0, fmin(ta, tb));
         t1 = fmin(t1, fmax(ta, tb));

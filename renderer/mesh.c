@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* A triangle smaller than this fraction of the bounding box's squared diagonal has sides near
  * float resolution (~1e-7 of the box), so its orientation is rounding noise: it is dropped. */
@@ -141,6 +142,53 @@ static void drop_degenerate_triangles(struct lucent_mesh *m)
     m->triangle_count = kept;
 }
 
+/* A triangle as its indices rotated to start at the smallest (winding kept), and where it stood. */
+struct tri_key {
+    uint32_t v[3];
+    uint32_t t;
+};
+
+static int compare_tri_keys(const void *pa, const void *pb)
+{
+    const struct tri_key *a = pa, *b = pb;
+    for (int k = 0; k < 3; k++)
+        if (a->v[k] != b->v[k])
+            return a->v[k] < b->v[k] ? -1 : 1;
+    return (a->t > b->t) - (a->t < b->t);
+}
+
+/* A face listed twice is one surface, not two: a second copy would double its irradiance points in
+ * the reference and its weight in smooth normals. The same face wound the other way is kept. */
+static lucent_status drop_duplicate_triangles(struct lucent_mesh *m, lucent_error *err)
+{
+    uint32_t n = m->triangle_count;
+    struct tri_key *keys = alloc_items(n, sizeof *keys);
+    unsigned char *drop = calloc(n ? n : 1, 1);
+    if (!keys || !drop) {
+        free(keys);
+        free(drop);
+        return lucent_fail(err, LUCENT_E_NOMEM, "mesh", "out of memory checking %u triangles", n);
+    }
+    for (uint32_t t = 0; t < n; t++) {
+        const uint32_t *tri = m->indices + 3 * (size_t)t;
+        int first = tri[1] < tri[0] ? (tri[2] < tri[1] ? 2 : 1) : (tri[2] < tri[0] ? 2 : 0);
+        for (int k = 0; k < 3; k++)
+            keys[t].v[k] = tri[(first + k) % 3];
+        keys[t].t = t;
+    }
+    qsort(keys, n, sizeof *keys, compare_tri_keys);
+    for (uint32_t i = 1; i < n; i++)
+        drop[keys[i].t] = memcmp(keys[i].v, keys[i - 1].v, sizeof keys[i].v) == 0;
+    uint32_t kept = 0;
+    for (uint32_t t = 0; t < n; t++)
+        if (!drop[t])
+            memmove(m->indices + 3 * (size_t)kept++, m->indices + 3 * (size_t)t, 3 * sizeof *m->indices);
+    m->triangle_count = kept;
+    free(keys);
+    free(drop);
+    return LUCENT_OK;
+}
+
 /* Renumbers the used vertices densely in their original order, moving their data down in place. */
 static lucent_status drop_unused_vertices(struct lucent_mesh *m, lucent_error *err)
 {
@@ -217,7 +265,8 @@ lucent_status mesh_finish(struct lucent_mesh *m, lucent_error *err)
                            "no usable triangle: all %u have a repeated vertex or zero area",
                            submitted);
 
-    if ((st = drop_unused_vertices(m, err)) != LUCENT_OK || (st = recentre(m, err)) != LUCENT_OK ||
+    if ((st = drop_duplicate_triangles(m, err)) != LUCENT_OK || (st = drop_unused_vertices(m, err)) != LUCENT_OK ||
+        (st = recentre(m, err)) != LUCENT_OK ||
         (st = mesh_fill_normals(m, err)) != LUCENT_OK)
         return st;
     return m->closed ? LUCENT_OK : mesh_orient_closed(m, err);
@@ -247,14 +296,6 @@ static void write_unit(float *out, const double v[3], const float *position)
         out[k] = radial_len > 0 ? (float)(radial[k] / radial_len) : (k == 2 ? 1.0f : 0.0f);
 }
 
-static uint32_t count_unusable_normals(const struct lucent_mesh *m)
-{
-    uint32_t bad = 0;
-    for (uint32_t v = 0; v < m->vertex_count; v++)
-        bad += !normal_is_usable(m->normals + 3 * (size_t)v);
-    return bad;
-}
-
 /* Adds each face's cross product (twice its area, so larger faces weigh more) to its vertices. */
 static void accumulate_face_normals(const struct lucent_mesh *m, double *sums)
 {
@@ -275,23 +316,25 @@ lucent_status mesh_fill_normals(struct lucent_mesh *m, lucent_error *err)
     if (replace_all && !(m->normals = alloc_items(n, sizeof *m->normals)))
         return lucent_fail(err, LUCENT_E_NOMEM, "mesh", "out of memory for %u normals",
                            m->vertex_count);
-
-    double *sums = NULL;
-    if (replace_all || count_unusable_normals(m) > 0) {
-        if (!(sums = calloc(n ? n : 1, sizeof *sums)))
-            return lucent_fail(err, LUCENT_E_NOMEM, "mesh", "out of memory for %u normals",
-                               m->vertex_count);
-        accumulate_face_normals(m, sums);
-    }
+    double *sums = calloc(n ? n : 1, sizeof *sums);
+    if (!sums)
+        return lucent_fail(err, LUCENT_E_NOMEM, "mesh", "out of memory for %u normals", m->vertex_count);
+    accumulate_face_normals(m, sums);
     for (uint32_t v = 0; v < m->vertex_count; v++) {
         float *normal = m->normals + 3 * (size_t)v;
         const float *position = m->positions + 3 * (size_t)v;
+        const double *faces = sums + 3 * (size_t)v;
         if (replace_all || !normal_is_usable(normal)) {
-            write_unit(normal, sums + 3 * (size_t)v, position);
-        } else {
-            double given[3] = {normal[0], normal[1], normal[2]};
-            write_unit(normal, given, position);
+            write_unit(normal, faces, position);
+            continue;
         }
+        /* Files may carry flipped normals: the winding decides which side is outside, for the
+         * raster passes as for the reference (mesh_surface_at). */
+        double given[3] = {normal[0], normal[1], normal[2]};
+        double sign = given[0] * faces[0] + given[1] * faces[1] + given[2] * faces[2] < 0.0 ? -1.0 : 1.0;
+        for (int k = 0; k < 3; k++)
+            given[k] *= sign;
+        write_unit(normal, given, position);
     }
     free(sums);
     return LUCENT_OK;

@@ -20,7 +20,7 @@ struct lucent_mesh {
 
 /* Completes a mesh whose positions/indices (absolute coordinates, malloc'd) are filled in:
  * rejects non-finite coordinates and out-of-range indices, drops degenerate triangles
- * (repeated index or zero area) and unused vertices, recentres, computes smooth area-weighted
+ * (repeated index or zero area), repeated faces and unused vertices, recentres, computes smooth area-weighted
  * normals when normals == NULL, and sets center/radius. Fails with LUCENT_E_MESH when no
  * usable triangle is left. On failure the mesh is left for the caller to free. */
 lucent_status mesh_finish(struct lucent_mesh *m, lucent_error *err);

@@ -7,7 +7,8 @@
 
 /* Makes every normal of m unit length. With m->normals == NULL all normals are allocated and
  * computed (area-weighted average of the adjacent faces); otherwise only the normals that are
- * non-finite or zero-length are replaced that way and the rest are normalized. Positions must
+ * non-finite or zero-length are replaced that way and the rest are normalized, and turned to the
+ * side the winding calls outside where they point against their faces. Positions must
  * already be relative to m->center, which is the fallback direction at vertices whose adjacent
  * faces cancel out. Fails only with LUCENT_E_NOMEM. */
 lucent_status mesh_fill_normals(struct lucent_mesh *m, lucent_error *err);
