@@ -18,6 +18,8 @@ packages=(
   libmeshoptimizer-dev
   libopenimageio-dev openimageio-tools
   libmicrohttpd-dev libcurl4-openssl-dev
+  curl python3
+  libssl-dev
   gnuplot-nox
   nodejs
 )

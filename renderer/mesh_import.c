@@ -5,6 +5,7 @@
 #endif
 
 #include "mesh.h"
+#include "mesh_compact.h"
 
 #include <assimp/cfileio.h>
 #include <assimp/cimport.h>
@@ -599,19 +600,26 @@ done:
     return st;
 }
 
+/* Files starting with the compact form's magic (the mesh store's .lmesh) skip assimp. */
 lucent_status lucent_mesh_import_file(const char *path, lucent_mesh **out, lucent_error *err)
 {
     *out = NULL;
-    const mesh_format *format = find_format(path_extension(path));
-    if (!format)
+    const char *ext = path_extension(path);
+    const mesh_format *format = find_format(ext);
+    if (!format && strcasecmp(ext, MESH_COMPACT_EXTENSION) != 0)
         return lucent_fail(err, LUCENT_E_INVALID, "mesh.file",
-                           "\"%s\" is not a supported mesh file; supported: " SUPPORTED_EXTENSIONS,
-                           path);
+                           "\"%s\" is not a supported mesh file; supported: " SUPPORTED_EXTENSIONS
+                           ", ." MESH_COMPACT_EXTENSION, path);
     unsigned char *data = NULL;
     size_t len = 0;
     lucent_status st = read_whole_file(path, &data, &len, err);
-    if (st == LUCENT_OK)
+    if (st == LUCENT_OK && mesh_compact_detect(data, len))
+        st = mesh_compact_read(data, len, out, err);
+    else if (st == LUCENT_OK && format)
         st = lucent_mesh_import_memory(data, len, format->ext, out, err);
+    else if (st == LUCENT_OK)
+        st = lucent_fail(err, LUCENT_E_MESH, "mesh.file",
+                         "\"%s\" does not start with the compact mesh magic", path);
     free(data);
     return st;
 }

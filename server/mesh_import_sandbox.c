@@ -1,0 +1,338 @@
+/* mesh_import_sandbox.c - runs lucent-import in a child process under rlimits and a wall-clock
+ * deadline, feeds it the upload and reads its one-line JSON answer (contract in the header). */
+#define _GNU_SOURCE /* close_range */
+
+#include "mesh_import_sandbox.h"
+#include "mesh_compact.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <jansson.h>
+#include <limits.h>
+#include <math.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#define ANSWER_CAP 4096       /* the importer answers one short JSON line */
+#define LOG_CAP 4096          /* of its stderr, relayed to ours */
+#define CHUNK 65536
+#define CHILD_FILES 16        /* stdin, stdout, stderr, the output file, what the loader opens */
+#define EXIT_NOT_STARTED 127  /* as a shell reports a program it could not run */
+#define LIMIT_COUNT 5
+#define REAP_POLL_NS 5000000L
+
+typedef struct child_setup {
+    char *argv[8];
+    char max_triangles[16];
+    int resources[LIMIT_COUNT];
+    struct rlimit limits[LIMIT_COUNT];
+} child_setup;
+
+typedef struct transcript {
+    char answer[ANSWER_CAP + 1];
+    size_t answer_len;
+    int answer_overflow;
+    char log[LOG_CAP + 1];
+    size_t log_len;
+} transcript;
+
+static int64_t now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+}
+
+static void close_fd(int *fd)
+{
+    if (*fd >= 0)
+        close(*fd);
+    *fd = -1;
+}
+
+/* ---- starting the child ---- */
+
+/* A limit above the daemon's own hard limit cannot be set by an unprivileged child. */
+static void add_limit(child_setup *cs, int i, int resource, rlim_t soft, rlim_t hard)
+{
+    struct rlimit current;
+    if (getrlimit(resource, &current) == 0 && current.rlim_max != RLIM_INFINITY) {
+        soft = soft < current.rlim_max ? soft : current.rlim_max;
+        hard = hard < current.rlim_max ? hard : current.rlim_max;
+    }
+    cs->resources[i] = resource;
+    cs->limits[i].rlim_cur = soft;
+    cs->limits[i].rlim_max = hard;
+}
+
+static void prepare(child_setup *cs, const char *tool, const struct import_limits *lim, const char *ext,
+                    const char *out_path)
+{
+    snprintf(cs->max_triangles, sizeof cs->max_triangles, "%u", lim->max_triangles);
+    char *argv[] = {(char *)tool, "--format", (char *)ext, "--out", (char *)out_path,
+                    "--max-triangles", cs->max_triangles, NULL};
+    memcpy(cs->argv, argv, sizeof argv);
+    /* no importer output holds more than LUCENT_MAX_TRIANGLES, nor more than 3 vertices a triangle */
+    uint32_t triangles = lim->max_triangles < LUCENT_MAX_TRIANGLES ? lim->max_triangles : LUCENT_MAX_TRIANGLES;
+    uint64_t file_bytes = mesh_compact_size(3 * triangles, triangles);
+    add_limit(cs, 0, RLIMIT_AS, lim->address_space_bytes, lim->address_space_bytes);
+    /* the soft limit sends SIGXCPU, which ends it; the hard one SIGKILLs one second later */
+    add_limit(cs, 1, RLIMIT_CPU, (rlim_t)lim->cpu_seconds, (rlim_t)lim->cpu_seconds + 1);
+    add_limit(cs, 2, RLIMIT_FSIZE, file_bytes, file_bytes);
+    add_limit(cs, 3, RLIMIT_NOFILE, CHILD_FILES, CHILD_FILES);
+    add_limit(cs, 4, RLIMIT_CORE, 0, 0); /* crashes on hostile files must not fill the disk */
+}
+
+/* In the child between fork and exec. The daemon has other threads, so only calls that are plain
+ * system calls (async-signal-safe in glibc) are made here. */
+_Noreturn static void child_exec(const child_setup *cs, int in, int out, int log)
+{
+    sigset_t none;
+    if (dup2(in, 0) < 0 || dup2(out, 1) < 0 || dup2(log, 2) < 0)
+        _exit(EXIT_NOT_STARTED);
+    close_range(3, ~0u, 0); /* the daemon's sockets and other imports' pipes */
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, NULL);
+    for (int i = 0; i < LIMIT_COUNT; i++)
+        if (setrlimit(cs->resources[i], &cs->limits[i]) != 0)
+            _exit(EXIT_NOT_STARTED);
+    execv(cs->argv[0], cs->argv);
+    _exit(EXIT_NOT_STARTED);
+}
+
+typedef struct child {
+    pid_t pid;
+    int in_fd, out_fd, log_fd; /* the parent's ends; -1 once closed */
+} child;
+
+static lucent_status spawn(const child_setup *cs, child *c, lucent_error *err)
+{
+    int in[2] = {-1, -1}, out[2] = {-1, -1}, log[2] = {-1, -1};
+    /* a socket for stdin, so that send(MSG_NOSIGNAL) turns a child that stopped reading into EPIPE
+     * instead of a SIGPIPE that would end the daemon */
+    if (socketpair(AF_UNIX, SOCK_STREAM, 0, in) != 0 || pipe(out) != 0 || pipe(log) != 0) {
+        int e = errno;
+        close_fd(&in[0]), close_fd(&in[1]), close_fd(&out[0]), close_fd(&out[1]), close_fd(&log[0]);
+        close_fd(&log[1]);
+        return lucent_fail(err, LUCENT_E_INTERNAL, "", "could not create pipes for the mesh importer: %s",
+                           strerror(e));
+    }
+    pid_t pid = fork();
+    if (pid == 0)
+        child_exec(cs, in[1], out[1], log[1]);
+    int e = errno;
+    close_fd(&in[1]), close_fd(&out[1]), close_fd(&log[1]);
+    if (pid < 0) {
+        close_fd(&in[0]), close_fd(&out[0]), close_fd(&log[0]);
+        return lucent_fail(err, LUCENT_E_INTERNAL, "", "could not start the mesh importer: %s", strerror(e));
+    }
+    fcntl(in[0], F_SETFL, fcntl(in[0], F_GETFL) | O_NONBLOCK);
+    *c = (child){pid, in[0], out[0], log[0]};
+    return LUCENT_OK;
+}
+
+/* ---- talking to it ---- */
+
+/* Reads what is available; keeps up to cap bytes and drops the rest. Closes fd at end of file. */
+static void drain(int *fd, char *buf, size_t cap, size_t *len, int *overflow)
+{
+    char chunk[CHUNK];
+    ssize_t n = read(*fd, chunk, sizeof chunk);
+    if (n < 0 && errno == EINTR)
+        return;
+    if (n <= 0) {
+        close_fd(fd);
+        return;
+    }
+    size_t keep = (size_t)n < cap - *len ? (size_t)n : cap - *len;
+    memcpy(buf + *len, chunk, keep);
+    *len += keep;
+    buf[*len] = '\0';
+    if (overflow && keep < (size_t)n)
+        *overflow = 1;
+}
+
+/* Writes the input and collects the output until the child closes its output or the deadline
+ * passes. Returns 0, 1 when the deadline passed, -1 when poll failed. */
+static int exchange(child *c, const unsigned char *in, size_t len, int64_t deadline, transcript *t)
+{
+    size_t sent = 0;
+    if (len == 0)
+        close_fd(&c->in_fd);
+    while (c->out_fd >= 0 || c->log_fd >= 0) {
+        int64_t left = deadline - now_ms();
+        if (left <= 0)
+            return 1;
+        struct pollfd p[3] = {{c->in_fd, POLLOUT, 0}, {c->out_fd, POLLIN, 0}, {c->log_fd, POLLIN, 0}};
+        int n = poll(p, 3, left < INT_MAX ? (int)left : INT_MAX);
+        if (n < 0 && errno != EINTR)
+            return -1;
+        if (n <= 0)
+            continue;
+        if (p[0].revents) {
+            size_t want = len - sent < CHUNK ? len - sent : CHUNK;
+            ssize_t w = send(c->in_fd, in + sent, want, MSG_NOSIGNAL);
+            if (w > 0 && (sent += (size_t)w) == len)
+                close_fd(&c->in_fd); /* end of file for the child */
+            else if (w < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)
+                close_fd(&c->in_fd); /* it stopped reading; its exit status says why */
+        }
+        if (p[1].revents)
+            drain(&c->out_fd, t->answer, ANSWER_CAP, &t->answer_len, &t->answer_overflow);
+        if (p[2].revents)
+            drain(&c->log_fd, t->log, LOG_CAP, &t->log_len, NULL);
+    }
+    return 0;
+}
+
+/* Waits for the child, killing it at the deadline. Returns 1 if it had to be killed, -1 if its
+ * status is lost (the daemon must not set SIGCHLD to SIG_IGN). */
+static int reap(pid_t pid, int64_t deadline, int *status)
+{
+    int killed = 0;
+    for (;;) {
+        pid_t r = waitpid(pid, status, killed ? 0 : WNOHANG);
+        if (r == pid)
+            return killed;
+        if (r < 0 && errno != EINTR)
+            return -1;
+        if (r == 0 && now_ms() >= deadline) {
+            kill(pid, SIGKILL);
+            killed = 1;
+        } else if (r == 0) {
+            struct timespec pause = {0, REAP_POLL_NS};
+            nanosleep(&pause, NULL);
+        }
+    }
+}
+
+/* ---- its answer ---- */
+
+static lucent_status not_understood(const transcript *t, lucent_error *err)
+{
+    int shown = (int)strcspn(t->answer, "\r\n");
+    return lucent_fail(err, LUCENT_E_INTERNAL, "", "the mesh importer's answer was not understood: %.*s",
+                       shown < 200 ? shown : 200, t->answer);
+}
+
+static lucent_status parse_info(const transcript *t, const struct import_limits *lim, struct mesh_info *info,
+                                lucent_error *err)
+{
+    json_error_t jerr;
+    json_int_t triangles, vertices;
+    double *lo = info->bounds_min, *hi = info->bounds_max;
+    json_t *doc = json_loadb(t->answer, t->answer_len, JSON_REJECT_DUPLICATES, &jerr);
+    int ok = doc && json_unpack_ex(doc, &jerr, JSON_STRICT, "{s:I, s:I, s:{s:[FFF], s:[FFF]}}", "triangles",
+                                   &triangles, "vertices", &vertices, "bounds", "min", &lo[0], &lo[1], &lo[2],
+                                   "max", &hi[0], &hi[1], &hi[2]) == 0;
+    json_decref(doc);
+    ok = ok && triangles >= 1 && triangles <= lim->max_triangles && vertices >= 1 && vertices <= 3 * triangles;
+    for (int k = 0; ok && k < 3; k++)
+        ok = isfinite(lo[k]) && isfinite(hi[k]) && lo[k] <= hi[k];
+    if (!ok)
+        return not_understood(t, err);
+    info->triangles = (uint32_t)triangles;
+    info->vertices = (uint32_t)vertices;
+    return LUCENT_OK;
+}
+
+static lucent_status parse_refusal(const transcript *t, const struct import_limits *lim, lucent_error *err)
+{
+    json_error_t jerr;
+    const char *name, *field, *message;
+    json_t *doc = json_loadb(t->answer, t->answer_len, JSON_REJECT_DUPLICATES, &jerr);
+    lucent_status status = LUCENT_OK;
+    if (doc && json_unpack_ex(doc, &jerr, JSON_STRICT, "{s:s, s:s, s:s}", "status", &name, "field", &field,
+                              "message", &message) == 0)
+        for (lucent_status s = LUCENT_E_INVALID; s <= LUCENT_E_INTERNAL; s++)
+            if (strcmp(name, lucent_status_name(s)) == 0)
+                status = s;
+    lucent_status st;
+    if (status == LUCENT_OK)
+        st = not_understood(t, err);
+    else if (status == LUCENT_E_NOMEM) /* the importer's memory is capped: not a transient failure */
+        st = lucent_fail(err, LUCENT_E_LIMIT, "mesh",
+                         "importing this mesh needs more than the %zu MiB of memory the importer may use",
+                         lim->address_space_bytes >> 20);
+    else /* whatever the importer called the field, for the daemon the upload as a whole is "mesh" */
+        st = lucent_fail(err, status, "mesh", "%s", message);
+    json_decref(doc); /* message points into doc */
+    return st;
+}
+
+static lucent_status interpret(int status, const transcript *t, const char *tool, const struct import_limits *lim,
+                               struct mesh_info *info, lucent_error *err)
+{
+    if (WIFSIGNALED(status) && WTERMSIG(status) == SIGXCPU)
+        return lucent_fail(err, LUCENT_E_MESH, "mesh",
+                           "the mesh importer used more than %d s of CPU time on this file and was stopped",
+                           lim->cpu_seconds);
+    if (WIFSIGNALED(status))
+        return lucent_fail(err, LUCENT_E_MESH, "mesh", "the mesh importer crashed (signal %d) on this file",
+                           WTERMSIG(status));
+    int code = WEXITSTATUS(status);
+    if (code == EXIT_NOT_STARTED)
+        return lucent_fail(err, LUCENT_E_INTERNAL, "",
+                           "could not start the mesh importer \"%s\": it is missing, not executable, or "
+                           "cannot load within %zu MiB of address space", tool, lim->address_space_bytes >> 20);
+    if (t->answer_overflow || (code != 0 && code != 2))
+        return lucent_fail(err, LUCENT_E_INTERNAL, "", "the mesh importer failed (exit status %d)", code);
+    return code == 0 ? parse_info(t, lim, info, err) : parse_refusal(t, lim, err);
+}
+
+static int known_ext(const char *ext)
+{
+    static const char *const exts[] = {"obj", "ply", "stl", "gltf", "glb"};
+    for (size_t i = 0; ext && i < sizeof exts / sizeof exts[0]; i++)
+        if (strcmp(ext, exts[i]) == 0)
+            return 1;
+    return 0;
+}
+
+lucent_status mesh_import_isolated(const char *import_tool, const struct import_limits *lim, const void *bytes,
+                                   size_t len, const char *ext, const char *out_path, struct mesh_info *info,
+                                   lucent_error *err)
+{
+    if (lim->address_space_bytes == 0 || lim->cpu_seconds <= 0 || lim->wall_seconds <= 0 ||
+        lim->max_triangles == 0)
+        return lucent_fail(err, LUCENT_E_INTERNAL, "", "every mesh import limit must be positive");
+    if (!known_ext(ext))
+        return lucent_fail(err, LUCENT_E_INVALID, "Content-Type",
+                           "unsupported mesh format \"%.16s\"; send OBJ, PLY, STL, glTF or GLB", ext ? ext : "");
+    child_setup cs;
+    child c = {-1, -1, -1, -1};
+    transcript t = {.answer_len = 0};
+    int status = 0;
+    prepare(&cs, import_tool, lim, ext, out_path);
+    lucent_status st = spawn(&cs, &c, err);
+    if (st != LUCENT_OK)
+        return st;
+    int64_t deadline = now_ms() + 1000 * (int64_t)lim->wall_seconds;
+    int exchanged = exchange(&c, bytes, len, deadline, &t);
+    close_fd(&c.in_fd), close_fd(&c.out_fd), close_fd(&c.log_fd);
+    if (exchanged != 0)
+        kill(c.pid, SIGKILL);
+    int reaped = reap(c.pid, deadline, &status);
+    if (t.log_len > 0)
+        fprintf(stderr, "%s%s", t.log, t.log[t.log_len - 1] == '\n' ? "" : "\n");
+
+    if (exchanged < 0)
+        return lucent_fail(err, LUCENT_E_INTERNAL, "", "poll failed while talking to the mesh importer");
+    if (reaped < 0)
+        return lucent_fail(err, LUCENT_E_INTERNAL, "",
+                           "the mesh importer's exit status was lost (is SIGCHLD ignored?)");
+    if (exchanged == 1 || reaped == 1)
+        return lucent_fail(err, LUCENT_E_MESH, "mesh",
+                           "the mesh importer took longer than %d s on this file and was stopped",
+                           lim->wall_seconds);
+    info->bytes = len;
+    info->created = 0;
+    return interpret(status, &t, import_tool, lim, info, err);
+}

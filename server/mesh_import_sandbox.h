@@ -1,0 +1,43 @@
+/* mesh_import_sandbox.h - imports an uploaded mesh in a separate, resource-limited lucent-import
+ * process, so an assimp crash, hang or memory blow-up costs one upload, not the daemon. */
+#ifndef LUCENT_MESH_IMPORT_SANDBOX_H
+#define LUCENT_MESH_IMPORT_SANDBOX_H
+
+#include "lucent.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Every field must be positive. The importer's output file is limited to the compact size of
+ * max_triangles triangles; it has 16 descriptors and no core dumps. */
+struct import_limits {
+    size_t address_space_bytes; /* RLIMIT_AS of the importer */
+    int cpu_seconds;            /* RLIMIT_CPU */
+    int wall_seconds;           /* killed after this long, whatever it is doing */
+    uint32_t max_triangles;     /* larger meshes are refused with LUCENT_E_LIMIT */
+};
+
+/* What the importer reports about a mesh; bounds in the upload's own coordinates. */
+struct mesh_info {
+    uint32_t triangles, vertices;
+    double bounds_min[3], bounds_max[3];
+    uint64_t bytes;  /* size of the upload */
+    int64_t created; /* Unix time the store kept it; 0 from mesh_import_isolated */
+};
+
+/* Runs `import_tool --format EXT --out OUT_PATH --max-triangles N` with the bytes on its standard
+ * input and the limits applied, and fills info from its answer. out_path must be writable; it holds
+ * the compact mesh on success and anything on failure (the caller removes it). A crash, a
+ * timeout or exceeding the CPU limit fails with LUCENT_E_MESH; the importer's own refusals keep
+ * their status and message (out of memory becomes LUCENT_E_LIMIT); all of these name the field
+ * "mesh", the upload as a whole. An ext other than the five is LUCENT_E_INVALID ("Content-Type");
+ * failing to run the importer is LUCENT_E_INTERNAL. The daemon must not set SIGCHLD to SIG_IGN. */
+lucent_status mesh_import_isolated(const char *import_tool, const struct import_limits *lim, const void *bytes,
+                                   size_t len, const char *ext, const char *out_path, struct mesh_info *info,
+                                   lucent_error *err);
+
+/* Guesses obj/ply/stl/gltf/glb from a Content-Type (parameters ignored) and, when it is absent or
+ * generic (application/octet-stream, text/plain), from the first bytes. NULL when unknown. */
+const char *mesh_format_sniff(const char *content_type, const void *bytes, size_t len);
+
+#endif

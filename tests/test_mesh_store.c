@@ -1,0 +1,368 @@
+/* test_mesh_store.c - the content-addressed mesh store: ids, idempotent puts, reopening, deleting, the
+ * byte budget, clean-up of interrupted writes, hostile ids and concurrent puts.
+ * Usage: test_mesh_store LUCENT_IMPORT */
+#ifndef _POSIX_C_SOURCE
+#define _POSIX_C_SOURCE 200809L /* mkdtemp */
+#endif
+
+#include "lucent.h"
+#include "mesh_store.h"
+#include "test_support.h"
+
+#include <dirent.h>
+#include <limits.h>
+#include <pthread.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+static const char *import_tool;
+static struct import_limits LIMITS = {512u << 20, 10, 20, LUCENT_MAX_TRIANGLES};
+
+static const char TRIANGLE_OBJ[] = "v 10 0 0\nv 11 0 0\nv 10 1 0\nf 1 2 3\n";
+/* sha256sum of TRIANGLE_OBJ, computed outside this program */
+static const char TRIANGLE_ID[] = "85569efac4ffb2e92d00a8e1cb0b0899ceb2bf156ab7c12ce7e7fb2f8dd52f46";
+static const char QUAD_OBJ[] = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+
+static double seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void make_dir(char *path)
+{
+    strcpy(path, "/tmp/lucent_store_XXXXXX");
+    if (!mkdtemp(path)) {
+        perror("mkdtemp");
+        exit(1);
+    }
+}
+
+/* Number of directory entries (besides . and ..); how many start with prefix when it is not NULL. */
+static int count_files(const char *dir, const char *prefix)
+{
+    int n = 0;
+    DIR *d = opendir(dir);
+    for (struct dirent *e; d && (e = readdir(d));)
+        n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..") &&
+             (!prefix || strncmp(e->d_name, prefix, strlen(prefix)) == 0);
+    if (d)
+        closedir(d);
+    return n;
+}
+
+static void remove_dir(const char *dir)
+{
+    char path[PATH_MAX];
+    DIR *d = opendir(dir);
+    for (struct dirent *e; d && (e = readdir(d));)
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
+            snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+            unlink(path);
+        }
+    if (d)
+        closedir(d);
+    rmdir(dir);
+}
+
+static int file_exists(const char *dir, const char *name)
+{
+    char path[PATH_MAX];
+    struct stat st;
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return stat(path, &st) == 0;
+}
+
+static void write_file(const char *dir, const char *name, const char *text)
+{
+    char path[PATH_MAX];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "w");
+    if (f) {
+        fputs(text, f);
+        fclose(f);
+    }
+}
+
+static struct mesh_store *open_store(const char *dir, uint64_t budget)
+{
+    struct mesh_store *s = NULL;
+    lucent_error err = {0};
+    lucent_status st = mesh_store_open(dir, budget, import_tool, &LIMITS, &s, &err);
+    if (!test_check(st == LUCENT_OK, "open %s with a %llu-byte budget: %s %s", dir, (unsigned long long)budget,
+                    lucent_status_name(st), err.message))
+        exit(test_finish());
+    return s;
+}
+
+/* ---- put, get, reopen, delete ---- */
+
+static void check_lifecycle(void)
+{
+    char dir[64], id[65], id2[65], quad_id[65], path[PATH_MAX], name[128];
+    struct mesh_info info, again, got;
+    lucent_error err = {0};
+    int created = -1;
+    make_dir(dir);
+    struct mesh_store *s = open_store(dir, 1 << 20);
+
+    double t0 = seconds();
+    lucent_status st = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", id, &info, &created, &err);
+    double t1 = seconds();
+    test_check(st == LUCENT_OK && created == 1 && strcmp(id, TRIANGLE_ID) == 0 && info.triangles == 1 &&
+                   info.bytes == strlen(TRIANGLE_OBJ) && info.created > 0 && info.bounds_min[0] == 10,
+               "put triangle OBJ: %s, created %d, id %s (sha256 of the bytes: %s), %u triangles, %.3f s %s",
+               lucent_status_name(st), created, id, strcmp(id, TRIANGLE_ID) == 0 ? "yes" : "no", info.triangles,
+               t1 - t0, err.message);
+    int64_t triangle_created = info.created;
+    uint64_t one = mesh_store_bytes(s);
+    snprintf(name, sizeof name, "%s.lmesh", id);
+    int has_mesh = file_exists(dir, name);
+    snprintf(name, sizeof name, "%s.json", id);
+    test_check(has_mesh && file_exists(dir, name) && count_files(dir, NULL) == 2 && one > 0,
+               "on disk: <id>.lmesh and <id>.json, nothing else; the store counts %llu bytes",
+               (unsigned long long)one);
+
+    t0 = seconds();
+    st = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "application/octet-stream", id2, &again, &created, &err);
+    t1 = seconds();
+    test_check(st == LUCENT_OK && created == 0 && strcmp(id, id2) == 0 && again.created == info.created &&
+                   mesh_store_bytes(s) == one && count_files(dir, NULL) == 2,
+               "the same bytes again: %s, created %d, same id, nothing written, %.4f s", lucent_status_name(st),
+               created, t1 - t0);
+
+    st = mesh_store_get(s, id, &got, path, sizeof path, &err);
+    lucent_mesh *m = NULL;
+    lucent_status loaded = st == LUCENT_OK ? lucent_mesh_import_file(path, &m, &err) : st;
+    test_check(st == LUCENT_OK && got.triangles == 1 && loaded == LUCENT_OK && lucent_mesh_triangle_count(m) == 1,
+               "get: %s -> %s, which the renderer loads (%u triangle) %s", lucent_status_name(st), path,
+               lucent_mesh_triangle_count(m), err.message);
+    lucent_mesh_free(m);
+
+    st = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), NULL, quad_id, &info, &created, &err);
+    test_check(st == LUCENT_OK && created == 1 && info.triangles == 2,
+               "put a quad without a Content-Type: %s, %u triangles", lucent_status_name(st), info.triangles);
+    uint64_t two = mesh_store_bytes(s);
+
+    static const char no_faces[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    st = mesh_store_put(s, no_faces, strlen(no_faces), "model/obj", id2, &info, &created, &err);
+    test_check(st == LUCENT_E_MESH && count_files(dir, NULL) == 4, "OBJ without faces: %s (%s), no file left",
+               lucent_status_name(st), err.message);
+    st = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "image/png", id2, &info, &created, &err);
+    test_check(st == LUCENT_E_INVALID && strcmp(err.field, "Content-Type") == 0,
+               "Content-Type image/png: %s, field \"%s\": %s", lucent_status_name(st), err.field, err.message);
+    st = mesh_store_put(s, "hello", 5, "application/octet-stream", id2, &info, &created, &err);
+    test_check(st == LUCENT_E_INVALID && strcmp(err.field, "Content-Type") == 0,
+               "unrecognizable bytes as application/octet-stream: %s, field \"%s\"", lucent_status_name(st),
+               err.field);
+
+    /* an interrupted put, an interrupted delete, damaged metadata, and someone else's file */
+    mesh_store_close(s);
+    const char *orphan = "00000000000000000000000000000000000000000000000000000000000000aa";
+    const char *lone = "00000000000000000000000000000000000000000000000000000000000000bb";
+    const char *damaged = "00000000000000000000000000000000000000000000000000000000000000cc";
+    write_file(dir, ".tmp-Ab12Cd", "half a mesh");
+    snprintf(name, sizeof name, "%s.lmesh", orphan);
+    write_file(dir, name, "a mesh whose metadata never arrived");
+    snprintf(name, sizeof name, "%s.json", lone);
+    write_file(dir, name, "{\"id\":\"...\"");
+    snprintf(name, sizeof name, "%s.lmesh", damaged);
+    write_file(dir, name, "a mesh");
+    snprintf(name, sizeof name, "%s.json", damaged);
+    write_file(dir, name, "{\"triangles\": \"many\"}");
+    write_file(dir, "notes.txt", "not the store's");
+    s = open_store(dir, 1 << 20);
+    st = mesh_store_get(s, id, &got, path, sizeof path, &err);
+    lucent_status st2 = mesh_store_get(s, quad_id, &again, path, sizeof path, &err);
+    test_check(st == LUCENT_OK && st2 == LUCENT_OK && got.triangles == 1 && got.created == triangle_created &&
+                   again.triangles == 2 && mesh_store_bytes(s) == two,
+               "reopened: both meshes are there with their metadata (%s, %s), %llu bytes as before",
+               lucent_status_name(st), lucent_status_name(st2), (unsigned long long)mesh_store_bytes(s));
+    test_check(count_files(dir, ".tmp-") == 0 && count_files(dir, "00000") == 0 && count_files(dir, NULL) == 5 &&
+                   file_exists(dir, "notes.txt"),
+               "reopened: the temporary file, the orphan mesh, the lone and the damaged metadata are gone, "
+               "notes.txt is kept (%d files)", count_files(dir, NULL));
+
+    st = mesh_store_delete(s, id, &err);
+    st2 = mesh_store_get(s, id, &got, path, sizeof path, &err);
+    test_check(st == LUCENT_OK && st2 == LUCENT_E_INVALID && strcmp(err.field, "mesh.id") == 0 &&
+                   strstr(err.message, "no mesh with id") && mesh_store_bytes(s) == two - one &&
+                   count_files(dir, NULL) == 3,
+               "delete: %s; then get: %s \"%s\"; %llu bytes left", lucent_status_name(st), lucent_status_name(st2),
+               err.message, (unsigned long long)mesh_store_bytes(s));
+    st = mesh_store_delete(s, id, &err);
+    test_check(st == LUCENT_E_INVALID && strstr(err.message, "no mesh with id"), "delete again: %s",
+               lucent_status_name(st));
+    mesh_store_close(s);
+    s = open_store(dir, 1 << 20);
+    test_check(mesh_store_get(s, id, &got, path, sizeof path, &err) == LUCENT_E_INVALID &&
+                   mesh_store_bytes(s) == two - one,
+               "reopened after the delete: still gone");
+    mesh_store_close(s);
+    remove_dir(dir);
+}
+
+/* ---- ids ---- */
+
+static void check_ids(void)
+{
+    char dir[64], path[PATH_MAX], upper[65];
+    make_dir(dir);
+    struct mesh_store *s = open_store(dir, 1 << 20);
+    for (int i = 0; i < 64; i++)
+        upper[i] = (char)(TRIANGLE_ID[i] >= 'a' ? TRIANGLE_ID[i] - 32 : TRIANGLE_ID[i]);
+    upper[64] = '\0';
+    const char *hostile[] = {"../x", upper, "85569efac4ffb2e92d00a8e1cb0b0899", "",
+                             "85569efac4ffb2e92d00a8e1cb0b0899ceb2bf156ab7c12ce7e7fb2f8dd52f460",
+                             "85569efac4ffb2e92d00a8e1cb0b0899ceb2bf156ab7c12ce7e7fb2f8dd52f4/",
+                             "../../../../../../../../../../../../../../../../../../../etc/passwd",
+                             "85569efac4ffb2e92d00a8e1cb0b0899ceb2bf156ab7c12ce7e7fb2f8dd52f4g"};
+    int refused = 0, n = (int)(sizeof hostile / sizeof hostile[0]);
+    for (int i = 0; i < n; i++) {
+        lucent_error e1 = {0}, e2 = {0};
+        lucent_status g = mesh_store_get(s, hostile[i], NULL, path, sizeof path, &e1);
+        lucent_status d = mesh_store_delete(s, hostile[i], &e2);
+        int ok = !mesh_id_valid(hostile[i]) && g == LUCENT_E_INVALID && d == LUCENT_E_INVALID &&
+                 strcmp(e1.field, "mesh.id") == 0 && strstr(e1.message, "64 lowercase");
+        if (!ok)
+            printf("     id \"%s\" was not refused: %s %s\n", hostile[i], lucent_status_name(g), e1.message);
+        refused += ok;
+    }
+    test_check(refused == n && mesh_id_valid(TRIANGLE_ID) && !mesh_id_valid(upper),
+               "%d of %d hostile ids (\"../x\", upper case, short, long, empty, slash, traversal, non-hex) refused "
+               "by get and delete with field mesh.id", refused, n);
+    mesh_store_close(s);
+    remove_dir(dir);
+}
+
+/* ---- the budget ---- */
+
+static void check_budget(void)
+{
+    char dir[64], id[65];
+    struct mesh_info info;
+    lucent_error err = {0};
+    int created;
+    make_dir(dir);
+    struct mesh_store *probe = open_store(dir, 1 << 20);
+    lucent_status st = mesh_store_put(probe, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", id, &info, &created, &err);
+    uint64_t one = mesh_store_bytes(probe);
+    mesh_store_close(probe);
+    remove_dir(dir);
+
+    /* room for the triangle and a little more, not for a second mesh */
+    make_dir(dir);
+    struct mesh_store *s = open_store(dir, one + one / 2);
+    st = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", id, &info, &created, &err);
+    test_check(st == LUCENT_OK && created == 1, "a %llu-byte mesh in a %llu-byte budget: %s",
+               (unsigned long long)one, (unsigned long long)(one + one / 2), lucent_status_name(st));
+    st = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), "model/obj", id, &info, &created, &err);
+    test_check(st == LUCENT_E_LIMIT && mesh_store_bytes(s) == one && count_files(dir, NULL) == 2,
+               "a second mesh is refused: %s \"%s\"; the store still holds %llu bytes in 2 files",
+               lucent_status_name(st), err.message, (unsigned long long)mesh_store_bytes(s));
+    st = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", id, &info, &created, &err);
+    test_check(st == LUCENT_OK && created == 0, "re-putting the stored mesh still works when full: %s",
+               lucent_status_name(st));
+    mesh_store_close(s);
+
+    /* a budget already exhausted refuses before importing */
+    s = open_store(dir, one);
+    double t0 = seconds();
+    st = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), "model/obj", id, &info, &created, &err);
+    test_check(st == LUCENT_E_LIMIT && strstr(err.message, "full"), "a full store: %s in %.4f s \"%s\"",
+               lucent_status_name(st), seconds() - t0, err.message);
+    mesh_store_close(s);
+    remove_dir(dir);
+}
+
+/* ---- concurrency ---- */
+
+typedef struct putter {
+    struct mesh_store *store;
+    const char *bytes;
+    char id[65];
+    int created;
+    lucent_status status;
+} putter;
+
+static void *put_thread(void *arg)
+{
+    putter *p = arg;
+    struct mesh_info info;
+    lucent_error err = {0};
+    p->status = mesh_store_put(p->store, p->bytes, strlen(p->bytes), "model/obj", p->id, &info, &p->created, &err);
+    return NULL;
+}
+
+/* Runs four puts at once; returns how many created an entry, -1 if any failed. */
+static int put_four(struct mesh_store *s, const char *const bytes[4], putter p[4])
+{
+    pthread_t threads[4];
+    int created = 0;
+    for (int i = 0; i < 4; i++) {
+        p[i] = (putter){s, bytes[i], "", -1, LUCENT_E_INTERNAL};
+        pthread_create(&threads[i], NULL, put_thread, &p[i]);
+    }
+    for (int i = 0; i < 4; i++)
+        pthread_join(threads[i], NULL);
+    for (int i = 0; i < 4; i++) {
+        if (p[i].status != LUCENT_OK)
+            return -1;
+        created += p[i].created;
+    }
+    return created;
+}
+
+static void check_concurrency(void)
+{
+    char dir[64];
+    putter p[4];
+    make_dir(dir);
+    struct mesh_store *s = open_store(dir, 1 << 20);
+    const char *same[4] = {QUAD_OBJ, QUAD_OBJ, QUAD_OBJ, QUAD_OBJ};
+    double t0 = seconds();
+    int created = put_four(s, same, p);
+    int same_id = strcmp(p[0].id, p[1].id) == 0 && strcmp(p[0].id, p[2].id) == 0 && strcmp(p[0].id, p[3].id) == 0;
+    test_check(created == 1 && same_id && count_files(dir, NULL) == 2,
+               "4 threads put the same bytes: %d created, one id, %d files (%.3f s)", created,
+               count_files(dir, NULL), seconds() - t0);
+    static const char a[] = "v 0 0 0\nv 2 0 0\nv 0 2 0\nf 1 2 3\n", b[] = "v 0 0 0\nv 3 0 0\nv 0 3 0\nf 1 2 3\n",
+                      c[] = "v 0 0 0\nv 4 0 0\nv 0 4 0\nf 1 2 3\n";
+    const char *distinct[4] = {a, b, c, QUAD_OBJ};
+    uint64_t before = mesh_store_bytes(s);
+    t0 = seconds();
+    created = put_four(s, distinct, p);
+    test_check(created == 3 && count_files(dir, NULL) == 8 && mesh_store_bytes(s) > before,
+               "4 threads put 3 new meshes and the stored one: %d created, %d files, %llu bytes (%.3f s)", created,
+               count_files(dir, NULL), (unsigned long long)mesh_store_bytes(s), seconds() - t0);
+    uint64_t bytes = mesh_store_bytes(s);
+    mesh_store_close(s);
+    s = open_store(dir, 1 << 20);
+    test_check(mesh_store_bytes(s) == bytes, "reopened: %llu bytes, the same as counted in memory",
+               (unsigned long long)mesh_store_bytes(s));
+    mesh_store_close(s);
+    remove_dir(dir);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc != 2) {
+        fprintf(stderr, "usage: %s LUCENT_IMPORT\n", argv[0]);
+        return 2;
+    }
+    import_tool = argv[1];
+    /* set by sanitizer builds: AddressSanitizer reserves terabytes of address space up front */
+    if (getenv("LUCENT_TEST_UNLIMITED_ADDRESS_SPACE"))
+        LIMITS.address_space_bytes = SIZE_MAX;
+    check_lifecycle();
+    check_ids();
+    check_budget();
+    check_concurrency();
+    return test_finish();
+}
