@@ -18,10 +18,12 @@ struct light_case {
     const char *name;
     const char *direction;  /* the way the light travels; the camera looks along -Z from +Z */
 };
-/* A mode is a scene fragment added to the case; one line here adds it everywhere. */
+/* A mode is a scene fragment added to the case; one line here adds it everywhere. Modes with single
+ * scattering are scored against a reference that has it too. */
 struct mode {
     const char *name;
     const char *json;
+    int single_scattering;
 };
 
 enum { MESH_SPHERE, MESH_TORUS, MESH_PROTRUSION, MESH_BUNNY };
@@ -36,17 +38,20 @@ static const struct light_case lights[] = {[LIGHT_FRONT] = {"front", "[0,0,-1]"}
 static const char *const materials[] = {"marble", "skin1", "skimmilk", "ketchup"};
 static const int sizes[] = {256, 512};
 static const struct mode modes[] = {
-    {"single", "\"method\":\"single\""},
-    {"five", "\"method\":\"five\""},
-    {"five per_channel", "\"method\":\"five\",\"sampling\":\"per_channel\""},
-    {"five samples 4", "\"method\":\"five\",\"samples\":4"},
-    {"five samples 8", "\"method\":\"five\",\"samples\":8"},
-    {"five samples 32", "\"method\":\"five\",\"samples\":32"},
-    {"five samples 64", "\"method\":\"five\",\"samples\":64"},
-    {"five projection 128", "\"method\":\"five\",\"projection_size\":128"},
-    {"five projection 256", "\"method\":\"five\",\"projection_size\":256"},
-    {"five projection 1024", "\"method\":\"five\",\"projection_size\":1024"},
-    {"single samples 64", "\"method\":\"single\",\"samples\":64"},
+    {"single", "\"method\":\"single\"", 0},
+    {"five", "\"method\":\"five\"", 0},
+    {"five per_channel", "\"method\":\"five\",\"sampling\":\"per_channel\"", 0},
+    {"five samples 4", "\"method\":\"five\",\"samples\":4", 0},
+    {"five samples 8", "\"method\":\"five\",\"samples\":8", 0},
+    {"five samples 32", "\"method\":\"five\",\"samples\":32", 0},
+    {"five samples 64", "\"method\":\"five\",\"samples\":64", 0},
+    {"five projection 128", "\"method\":\"five\",\"projection_size\":128", 0},
+    {"five projection 256", "\"method\":\"five\",\"projection_size\":256", 0},
+    {"five projection 1024", "\"method\":\"five\",\"projection_size\":1024", 0},
+    {"single samples 64", "\"method\":\"single\",\"samples\":64", 0},
+    {"five fallback front", "\"method\":\"five\",\"fallback\":\"front\"", 0},
+    {"auto", "\"method\":\"auto\"", 0},
+    {"five single scattering", "\"method\":\"five\",\"single_scattering\":true", 1},
 };
 
 enum { MODES = (int)N(modes), CASES_PER_SIZE = (int)(N(meshes) * N(lights) * N(materials)) };
@@ -201,31 +206,53 @@ static void write_csv_row(FILE *csv, int index, int mode, const struct result *x
             e->band.mean_abs, e->band.max_abs, e->band.p99_rel, e->band.share_over_10pct);
 }
 
-/* Renders the reference of one case, then every mode; rows go to the CSV as they are measured. */
-static lucent_status run_case(lucent_renderer *r, const struct options *o, int index, struct result *row, FILE *csv,
-                              lucent_error *err)
+static int any_single_scattering(void)
 {
-    struct case_id c = case_of(index);
+    for (int m = 0; m < MODES; m++)
+        if (modes[m].single_scattering)
+            return 1;
+    return 0;
+}
+
+static lucent_status render_reference(lucent_renderer *r, const struct options *o, int index, int single,
+                                      lucent_image *ref, lucent_error *err)
+{
     lucent_scene s;
-    lucent_image ref;
     lucent_stats stats;
-    lucent_status st = make_scene(o, c, "\"method\":\"reference\",\"format\":\"exr\"", &s, err);
+    lucent_status st = make_scene(o, case_of(index),
+                                  single ? "\"method\":\"reference\",\"format\":\"exr\",\"single_scattering\":true"
+                                         : "\"method\":\"reference\",\"format\":\"exr\"",
+                                  &s, err);
     if (st == LUCENT_OK)
-        st = lucent_render(r, &s, &ref, &stats, err);
+        st = lucent_render(r, &s, ref, &stats, err);
     if (st != LUCENT_OK)
         return st;
     char label[128];
     case_label(index, label, sizeof label);
-    fprintf(stderr, "bench_trade: %d %s: reference %.0f ms\n", sizes[c.size], label, stats.ms_total);
+    fprintf(stderr, "bench_trade: %d %s: reference%s %.0f ms\n", sizes[case_of(index).size], label,
+            single ? " with single scattering" : "", stats.ms_total);
+    return LUCENT_OK;
+}
+
+/* Renders the references of one case, then every mode; rows go to the CSV as they are measured. */
+static lucent_status run_case(lucent_renderer *r, const struct options *o, int index, struct result *row, FILE *csv,
+                              lucent_error *err)
+{
+    lucent_image ref[2] = {{0}, {0}};
+    lucent_scene s;
+    lucent_status st = render_reference(r, o, index, 0, &ref[0], err);
+    if (st == LUCENT_OK && any_single_scattering())
+        st = render_reference(r, o, index, 1, &ref[1], err);
     for (int m = 0; m < MODES && st == LUCENT_OK; m++) {
-        st = make_scene(o, c, modes[m].json, &s, err);
+        st = make_scene(o, case_of(index), modes[m].json, &s, err);
         if (st == LUCENT_OK)
-            st = measure(r, &s, o->frames, &ref, &row[m], err);
+            st = measure(r, &s, o->frames, &ref[modes[m].single_scattering], &row[m], err);
         if (st == LUCENT_OK)
             write_csv_row(csv, index, m, &row[m]);
     }
     fflush(csv);
-    lucent_image_free(&ref);
+    lucent_image_free(&ref[0]);
+    lucent_image_free(&ref[1]);
     return st;
 }
 
