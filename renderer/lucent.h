@@ -236,6 +236,10 @@ lucent_renderer *lucent_renderer_create(const lucent_renderer_desc *desc, lucent
 void lucent_renderer_destroy(lucent_renderer *r);
 /* Releases the devices no renderer uses any more. */
 void lucent_shutdown(void);
+/* The largest width x height the image-space methods can render on this renderer's device: the
+ * scatter pass writes 16 bytes a pixel through one storage-buffer range (maxStorageBufferRange,
+ * 128 MiB on lavapipe: 2896^2). Larger images are refused with LUCENT_E_LIMIT naming that limit. */
+uint64_t lucent_renderer_max_pixels(const lucent_renderer *r);
 /* Renders one frame. out is allocated here (AOVs only when scene->format is EXR); free with
  * lucent_image_free. stats may be NULL. */
 lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucent_image *out,

@@ -104,6 +104,23 @@ static lucent_status check_scene(const lucent_scene *s, lucent_error *err)
     return LUCENT_OK;
 }
 
+uint64_t lucent_renderer_max_pixels(const lucent_renderer *r)
+{
+    return r->ctx.limits.maxStorageBufferRange / 16u;
+}
+
+static lucent_status check_device_limits(const lucent_renderer *r, const lucent_scene *s, lucent_error *err)
+{
+    uint64_t pixels = (uint64_t)s->width * (uint64_t)s->height, max = lucent_renderer_max_pixels(r);
+    if (s->method == LUCENT_METHOD_REFERENCE || pixels <= max)
+        return LUCENT_OK;
+    return lucent_fail(err, LUCENT_E_LIMIT, "width",
+                       "a %dx%d image is %llu pixels; this device (%s) renders at most %llu (its "
+                       "maxStorageBufferRange of %u bytes over 16 bytes a pixel)",
+                       s->width, s->height, (unsigned long long)pixels, r->ctx.device_name, (unsigned long long)max,
+                       r->ctx.limits.maxStorageBufferRange);
+}
+
 static lucent_status ensure_targets(lucent_renderer *r, const lucent_scene *s, int side_size, lucent_error *err)
 {
     struct render_targets *t = &r->targets;
@@ -251,7 +268,7 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
     struct gpu_mesh *gm;
     struct frame_plan *plan = &r->plan;
     lucent_status st;
-    if ((st = check_scene(scene, err)) ||
+    if ((st = check_scene(scene, err)) || (st = check_device_limits(r, scene, err)) ||
         (st = mesh_cache_get(&r->ctx, &r->meshes, &scene->mesh, &gm, &stats->ms_mesh_load, err)))
         return st;
     if (scene->method == LUCENT_METHOD_REFERENCE) {
