@@ -18,7 +18,7 @@ packages=(
   libmeshoptimizer-dev
   libopenimageio-dev openimageio-tools
   libmicrohttpd-dev libcurl4-openssl-dev
-  curl python3
+  curl python3 wrk
   libssl-dev
   gnuplot-nox
   nodejs

@@ -1,0 +1,370 @@
+/* http_server.c - libmicrohttpd set-up and the request life cycle: state per connection, checks before the
+ * body (route, method, token, Content-Length), the capped body, dispatch, and logging and metrics at completion. */
+#include "http_server.h"
+
+#include "access_log.h"
+#include "metrics.h"
+#include "problem.h"
+#include "render_queue.h"
+#include "routes.h"
+#include "server.h"
+#include "upload_queue.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#define CONNECTION_MEMORY (128 * 1024) /* headers in and out: Lucent-Modelled can be 2 KiB */
+#define INITIAL_BODY (1024 * 1024)
+
+const char *http_header(struct request *req, const char *name)
+{
+    return MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND, name);
+}
+
+/* The origin to echo in Access-Control-Allow-Origin, or NULL when CORS does not apply. */
+static const char *cors_origin(struct request *req)
+{
+    const char *list = req->srv->cfg.cors_origins;
+    const char *origin = http_header(req, MHD_HTTP_HEADER_ORIGIN);
+    if (!list[0] || !origin)
+        return NULL;
+    if (strcmp(list, "*") == 0)
+        return "*";
+    size_t n = strlen(origin);
+    for (const char *p = list; *p;) {
+        size_t len = strcspn(p, ",");
+        while (len && *p == ' ')
+            p++, len--;
+        size_t trimmed = len;
+        while (trimmed && p[trimmed - 1] == ' ')
+            trimmed--;
+        if (trimmed == n && strncmp(p, origin, n) == 0)
+            return origin;
+        p += len;
+        if (*p == ',')
+            p++;
+    }
+    return NULL;
+}
+
+enum MHD_Result http_send(struct request *req, unsigned status, struct MHD_Response *resp)
+{
+    if (!resp)
+        return MHD_NO; /* out of memory: MHD closes the connection */
+    MHD_add_response_header(resp, "X-Request-Id", req->id);
+    const char *origin = cors_origin(req);
+    if (origin) {
+        MHD_add_response_header(resp, MHD_HTTP_HEADER_ACCESS_CONTROL_ALLOW_ORIGIN, origin);
+        MHD_add_response_header(resp, "Access-Control-Expose-Headers",
+                                "ETag, Server-Timing, Lucent-Modelled, X-Request-Id, Retry-After");
+        MHD_add_response_header(resp, "Timing-Allow-Origin", origin);
+        if (strcmp(origin, "*") != 0)
+            MHD_add_response_header(resp, MHD_HTTP_HEADER_VARY, "Origin");
+    }
+    req->status = status;
+    enum MHD_Result r = MHD_queue_response(req->connection, status, resp);
+    MHD_destroy_response(resp);
+    return r;
+}
+
+enum MHD_Result http_send_bytes(struct request *req, unsigned status, const char *content_type, const void *bytes,
+                                size_t len)
+{
+    struct MHD_Response *resp = MHD_create_response_from_buffer(len, (void *)bytes, MHD_RESPMEM_MUST_COPY);
+    if (!resp)
+        return MHD_NO;
+    MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, content_type);
+    req->bytes_out = len;
+    return http_send(req, status, resp);
+}
+
+enum MHD_Result http_send_error(struct request *req, const lucent_error *err)
+{
+    const struct problem_kind *kind = problem_lookup(err->status, err->field);
+    size_t len = 0;
+    char *body = problem_json(kind, err, req->id, &len);
+    if (!body)
+        return MHD_NO;
+    struct MHD_Response *resp = MHD_create_response_from_buffer(len, body, MHD_RESPMEM_MUST_FREE);
+    if (!resp) {
+        free(body);
+        return MHD_NO;
+    }
+    MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, "application/problem+json");
+    MHD_add_response_header(resp, MHD_HTTP_HEADER_CACHE_CONTROL, "no-store");
+    if (kind->http_status == MHD_HTTP_SERVICE_UNAVAILABLE) {
+        char secs[16];
+        snprintf(secs, sizeof secs, "%d", req->srv->cfg.retry_after_s);
+        MHD_add_response_header(resp, MHD_HTTP_HEADER_RETRY_AFTER, secs);
+    }
+    if (kind->http_status == MHD_HTTP_METHOD_NOT_ALLOWED && req->route) {
+        char allow[64];
+        route_allow(req->route->methods, allow, sizeof allow);
+        MHD_add_response_header(resp, MHD_HTTP_HEADER_ALLOW, allow);
+    }
+    if (kind->http_status == MHD_HTTP_UNAUTHORIZED)
+        MHD_add_response_header(resp, MHD_HTTP_HEADER_WWW_AUTHENTICATE, "Bearer realm=\"lucentd\"");
+    req->bytes_out = len;
+    return http_send(req, kind->http_status, resp);
+}
+
+enum MHD_Result http_send_problem(struct request *req, int code, const char *field, const char *fmt, ...)
+{
+    lucent_error err;
+    memset(&err, 0, sizeof err);
+    err.status = (lucent_status)code;
+    snprintf(err.field, sizeof err.field, "%s", field ? field : "");
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err.message, sizeof err.message, fmt, ap);
+    va_end(ap);
+    return http_send_error(req, &err);
+}
+
+static unsigned method_bit(const char *m)
+{
+    static const struct { const char *name; unsigned bit; } methods[] = {
+        {"GET", M_GET}, {"HEAD", M_HEAD}, {"POST", M_POST}, {"DELETE", M_DELETE}, {"OPTIONS", M_OPTIONS}};
+    for (size_t i = 0; i < sizeof methods / sizeof methods[0]; i++)
+        if (strcmp(m, methods[i].name) == 0)
+            return methods[i].bit;
+    return 0;
+}
+
+/* Compares in time independent of where the strings differ, so the token cannot be guessed byte by byte. */
+static int token_ok(struct request *req)
+{
+    const char *token = req->srv->token;
+    const char *auth = http_header(req, MHD_HTTP_HEADER_AUTHORIZATION);
+    if (!auth || strncasecmp(auth, "Bearer ", 7) != 0)
+        return 0;
+    const char *given = auth + 7;
+    size_t n = strlen(token), m = strlen(given);
+    unsigned char diff = (unsigned char)(n != m);
+    for (size_t i = 0; i < n; i++)
+        diff |= (unsigned char)(token[i] ^ (i < m ? given[i] : 0));
+    return diff == 0;
+}
+
+static enum MHD_Result preflight(struct request *req)
+{
+    char allow[64];
+    route_allow(req->route->methods, allow, sizeof allow);
+    struct MHD_Response *resp = MHD_create_response_from_buffer(0, NULL, MHD_RESPMEM_PERSISTENT);
+    if (!resp)
+        return MHD_NO;
+    MHD_add_response_header(resp, MHD_HTTP_HEADER_ALLOW, allow);
+    if (cors_origin(req)) {
+        MHD_add_response_header(resp, "Access-Control-Allow-Methods", allow);
+        MHD_add_response_header(resp, "Access-Control-Allow-Headers",
+                                "Content-Type, Authorization, Accept, If-None-Match, X-Request-Id");
+        MHD_add_response_header(resp, "Access-Control-Max-Age", "600");
+    }
+    return http_send(req, MHD_HTTP_NO_CONTENT, resp);
+}
+
+/* The client's X-Request-Id when it is short and plain, else a new one. */
+static void assign_id(struct request *req)
+{
+    const char *given = http_header(req, "X-Request-Id");
+    if (given && strlen(given) <= 64 && strlen(given) > 0 &&
+        strspn(given, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.") == strlen(given)) {
+        snprintf(req->id, sizeof req->id, "%s", given);
+        return;
+    }
+    /* The start time makes ids unique across restarts; the counter within one run. */
+    uint64_t n = atomic_fetch_add(&req->srv->next_request, 1);
+    snprintf(req->id, sizeof req->id, "%08llx-%06llx", (unsigned long long)req->srv->started_at & 0xffffffffu,
+             (unsigned long long)n);
+}
+
+/* Checks made before any body byte is read; a response queued here means MHD discards the body. */
+static enum MHD_Result first_call(struct request *req, int *answered)
+{
+    *answered = 1;
+    if (!req->route)
+        return http_send_problem(req, PROBLEM_NO_ROUTE, NULL, "no resource at %s (see /openapi.json)", req->path);
+    if (req->method_bit == M_OPTIONS)
+        return preflight(req);
+    if (!(req->route->methods & req->method_bit))
+        return http_send_problem(req, PROBLEM_METHOD, NULL, "%s does not accept %s", req->route->path, req->method);
+    if (!req->route->open && req->srv->token[0] && !token_ok(req))
+        return http_send_problem(req, PROBLEM_UNAUTHORIZED, "Authorization",
+                                 "send the daemon's token as \"Authorization: Bearer TOKEN\"");
+    const char *cl = http_header(req, MHD_HTTP_HEADER_CONTENT_LENGTH);
+    uint64_t max = req->srv->cfg.max_body_bytes;
+    if (cl) {
+        char *end = NULL;
+        errno = 0;
+        unsigned long long n = strtoull(cl, &end, 10);
+        if (errno || *end || n > max)
+            return http_send_problem(req, PROBLEM_BODY_TOO_LARGE, "Content-Length",
+                                     "the body may have at most %llu bytes (Content-Length: %.24s)",
+                                     (unsigned long long)max, cl);
+        /* Memory follows the bytes that actually arrive: a large Content-Length alone reserves little. */
+        size_t first = n < INITIAL_BODY ? (size_t)n : INITIAL_BODY;
+        if (first > 0 && req->method_bit == M_POST && (req->body = malloc(first)) == NULL)
+            return http_send_problem(req, LUCENT_E_NOMEM, NULL, "no memory for a %llu-byte body", n);
+        req->body_cap = req->body ? first : 0;
+    }
+    *answered = 0;
+    return MHD_YES;
+}
+
+/* Appends a chunk; bodies without Content-Length grow up to the limit, then the rest is discarded.
+ * Only POST routes read a body; any other method's body is dropped. */
+static void take_body(struct request *req, const char *data, size_t size)
+{
+    uint64_t max = req->srv->cfg.max_body_bytes;
+    if (req->method_bit != M_POST)
+        return;
+    if (req->body_too_large || req->body_len + size > max) {
+        req->body_too_large = 1;
+        return;
+    }
+    if (req->body_len + size > req->body_cap) {
+        size_t cap = req->body_cap ? req->body_cap * 2 : 64 * 1024;
+        while (cap < req->body_len + size)
+            cap *= 2;
+        if (cap > max)
+            cap = (size_t)max;
+        unsigned char *grown = realloc(req->body, cap);
+        if (!grown) {
+            req->body_too_large = 1;
+            return;
+        }
+        req->body = grown;
+        req->body_cap = cap;
+    }
+    memcpy(req->body + req->body_len, data, size);
+    req->body_len += size;
+}
+
+static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, const char *url, const char *method,
+                                  const char *version, const char *upload_data, size_t *upload_data_size,
+                                  void **con_cls)
+{
+    (void)version;
+    struct server *srv = cls;
+    struct request *req = *con_cls;
+    if (!req) {
+        req = calloc(1, sizeof *req);
+        if (!req)
+            return MHD_NO;
+        *con_cls = req;
+        req->srv = srv;
+        req->connection = connection;
+        req->start = monotonic_seconds();
+        req->cache = "-";
+        snprintf(req->method, sizeof req->method, "%s", method);
+        snprintf(req->path, sizeof req->path, "%s", url);
+        req->method_bit = method_bit(method);
+        req->route = route_match(url, &req->route_index);
+        assign_id(req);
+        int answered = 0;
+        enum MHD_Result r = first_call(req, &answered);
+        return answered ? r : MHD_YES;
+    }
+    if (req->status) {
+        *upload_data_size = 0; /* answered on the first call; the body is discarded */
+        return MHD_YES;
+    }
+    if (*upload_data_size) {
+        take_body(req, upload_data, *upload_data_size);
+        *upload_data_size = 0;
+        return MHD_YES;
+    }
+    if (req->body_too_large)
+        return http_send_problem(req, PROBLEM_BODY_TOO_LARGE, NULL, "the body may have at most %llu bytes",
+                                 (unsigned long long)srv->cfg.max_body_bytes);
+    return req->route->handler(req);
+}
+
+static void on_completed(void *cls, struct MHD_Connection *connection, void **con_cls,
+                         enum MHD_RequestTerminationCode toe)
+{
+    (void)connection;
+    struct server *srv = cls;
+    struct request *req = *con_cls;
+    if (!req)
+        return;
+    *con_cls = NULL;
+    static const char *const notes[] = {
+        [MHD_REQUEST_TERMINATED_COMPLETED_OK] = NULL,
+        [MHD_REQUEST_TERMINATED_WITH_ERROR] = "error",
+        [MHD_REQUEST_TERMINATED_TIMEOUT_REACHED] = "timeout",
+        [MHD_REQUEST_TERMINATED_DAEMON_SHUTDOWN] = "shutdown",
+        [MHD_REQUEST_TERMINATED_READ_ERROR] = "read-error",
+        [MHD_REQUEST_TERMINATED_CLIENT_ABORT] = "client-abort",
+    };
+    struct access_entry e = {
+        .request_id = req->id, .method = req->method, .path = req->path, .status = req->status,
+        .bytes = req->bytes_out, .queue_ms = req->queue_ms, .render_ms = req->render_ms,
+        .encode_ms = req->encode_ms, .total_ms = (monotonic_seconds() - req->start) * 1e3, .cache = req->cache,
+        .note = (unsigned)toe < sizeof notes / sizeof notes[0] ? notes[toe] : "unknown"};
+    log_request(&e);
+    if (req->status)
+        metrics_request(srv->metrics, req->route_index, req->status);
+    render_job_release(srv->queue, req->job);
+    upload_job_release(srv->uploads, req->upload);
+    free(req->body);
+    free(req);
+}
+
+static void mhd_log(void *cls, const char *fmt, va_list ap)
+{
+    (void)cls;
+    char msg[512];
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    msg[strcspn(msg, "\n")] = 0;
+    log_line(LOG_WARN, "libmicrohttpd: %s", msg);
+}
+
+struct MHD_Daemon *http_start(struct server *srv, uint16_t *port, lucent_error *err)
+{
+    const struct config *cfg = &srv->cfg;
+    struct sockaddr_in v4;
+    struct sockaddr_in6 v6;
+    struct sockaddr *addr;
+    unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_EPOLL | MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG;
+    memset(&v4, 0, sizeof v4);
+    memset(&v6, 0, sizeof v6);
+    if (inet_pton(AF_INET, cfg->listen, &v4.sin_addr) == 1) {
+        v4.sin_family = AF_INET;
+        v4.sin_port = htons((uint16_t)cfg->port);
+        addr = (struct sockaddr *)&v4;
+    } else if (inet_pton(AF_INET6, cfg->listen, &v6.sin6_addr) == 1) {
+        v6.sin6_family = AF_INET6;
+        v6.sin6_port = htons((uint16_t)cfg->port);
+        addr = (struct sockaddr *)&v6;
+        flags |= MHD_USE_IPv6;
+    } else {
+        lucent_fail(err, LUCENT_E_INVALID, "listen", "\"%s\" is not an IPv4 or IPv6 address", cfg->listen);
+        return NULL;
+    }
+    struct MHD_Daemon *d = MHD_start_daemon(
+        flags, (uint16_t)cfg->port, NULL, NULL, on_request, srv, MHD_OPTION_EXTERNAL_LOGGER, mhd_log, NULL,
+        MHD_OPTION_SOCK_ADDR, addr,
+        MHD_OPTION_CONNECTION_LIMIT, (unsigned)cfg->max_connections, MHD_OPTION_CONNECTION_TIMEOUT,
+        (unsigned)cfg->connection_timeout_s, MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)CONNECTION_MEMORY,
+        MHD_OPTION_NOTIFY_COMPLETED, on_completed, srv, MHD_OPTION_END);
+    if (!d) {
+        lucent_fail(err, LUCENT_E_IO, "listen", "cannot listen on %s port %d (in use, or not an address of this host)",
+                    cfg->listen, cfg->port);
+        return NULL;
+    }
+    const union MHD_DaemonInfo *info = MHD_get_daemon_info(d, MHD_DAEMON_INFO_BIND_PORT);
+    *port = info ? info->port : (uint16_t)cfg->port;
+    return d;
+}
+
+unsigned http_connections(struct MHD_Daemon *d)
+{
+    const union MHD_DaemonInfo *info = MHD_get_daemon_info(d, MHD_DAEMON_INFO_CURRENT_CONNECTIONS);
+    return info ? info->num_connections : 0;
+}

@@ -1,0 +1,181 @@
+/* lucentd.c - the daemon's life cycle: settings, start-up (HTTP first, so /readyz can say "starting"), the
+ * deadline loop, and the SIGTERM order: not ready, stop accepting, drain, resume all, stop, exit 0. */
+#include "access_log.h"
+#include "config.h"
+#include "http_server.h"
+#include "image_cache.h"
+#include "mesh_store.h"
+#include "metrics.h"
+#include "render_queue.h"
+#include "routes.h"
+#include "server.h"
+#include "upload_queue.h"
+
+#include "lucentd_build.h"
+
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define TICK_NS (20 * 1000 * 1000) /* deadline sweep and signal check period */
+#define FLUSH_SECONDS 2.0          /* after draining, time given to resumed connections to send their answers */
+
+static volatile sig_atomic_t stop_signal;
+
+static void on_signal(int sig)
+{
+    stop_signal = sig;
+}
+
+static int install_signals(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    struct sigaction ignore = sa;
+    ignore.sa_handler = SIG_IGN;
+    return sigaction(SIGTERM, &sa, NULL) || sigaction(SIGINT, &sa, NULL) || sigaction(SIGPIPE, &ignore, NULL) ? -1 : 0;
+}
+
+static void tick(void)
+{
+    struct timespec ts = {0, TICK_NS};
+    nanosleep(&ts, NULL);
+}
+
+/* The token is the file's first line; surrounding whitespace is dropped (editors add a newline). */
+static int read_token(const char *path, char *out, size_t cap)
+{
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        log_line(LOG_ERROR, "cannot read token file %s: %s", path, strerror(errno));
+        return -1;
+    }
+    char line[512] = "";
+    int ok = fgets(line, sizeof line, f) != NULL;
+    fclose(f);
+    char *s = line;
+    while (*s == ' ' || *s == '\t')
+        s++;
+    size_t n = strcspn(s, "\r\n \t");
+    if (!ok || n == 0 || n >= cap) {
+        log_line(LOG_ERROR, "token file %s must hold one token of 1..%zu characters on its first line", path, cap - 1);
+        return -1;
+    }
+    memcpy(out, s, n);
+    out[n] = 0;
+    return 0;
+}
+
+/* Queued and running renders and imports get until the drain deadline; the rest are answered 503. */
+static void drain(struct server *srv, struct MHD_Daemon *d)
+{
+    double deadline = monotonic_seconds() + srv->cfg.drain_timeout_s;
+    render_queue_close(srv->queue);
+    upload_queue_wait_idle(srv->uploads, deadline);
+    int open;
+    while ((open = render_queue_open_jobs(srv->queue)) > 0 && monotonic_seconds() < deadline) {
+        render_queue_expire(srv->queue, monotonic_seconds());
+        tick();
+    }
+    if (open > 0)
+        log_line(LOG_WARN, "drain deadline reached; answering %d unfinished renders with 503", open);
+    render_queue_cancel_all(srv->queue);
+    upload_queue_cancel_all(srv->uploads);
+    double flush = monotonic_seconds() + FLUSH_SECONDS;
+    while (http_connections(d) > 0 && monotonic_seconds() < flush)
+        tick();
+}
+
+int main(int argc, char **argv)
+{
+    static struct server srv; /* large; lives for the whole process */
+    int rc = config_load(&srv.cfg, argc, argv);
+    if (rc != 0)
+        return rc > 0 ? 0 : 2;
+    log_set_level(srv.cfg.log_level);
+    srv.started_at = (long long)time(NULL);
+    config_log(&srv.cfg);
+    if (srv.cfg.token_file[0] && read_token(srv.cfg.token_file, srv.token, sizeof srv.token) != 0)
+        return 2;
+    if (install_signals() != 0) {
+        log_line(LOG_ERROR, "cannot install signal handlers: %s", strerror(errno));
+        return 1;
+    }
+    rc = 1;
+    lucent_error err = {0};
+    struct MHD_Daemon *d = NULL;
+    srv.metrics = metrics_create(route_labels, route_label_count);
+    srv.cache = image_cache_create(srv.cfg.cache_bytes);
+    if (!srv.metrics || !srv.cache) {
+        log_line(LOG_ERROR, "out of memory at start-up");
+        goto done;
+    }
+    struct import_limits lim = {.address_space_bytes = (size_t)srv.cfg.import_memory_bytes,
+                                .cpu_seconds = srv.cfg.import_cpu_s,
+                                .wall_seconds = srv.cfg.import_wall_s,
+                                .max_triangles = srv.cfg.max_triangles};
+    if (mesh_store_open(srv.cfg.store_dir, srv.cfg.store_bytes, srv.cfg.import_tool, &lim, &srv.store, &err) != LUCENT_OK)
+        goto fail;
+    log_line(LOG_INFO, "mesh store %s: %llu bytes of %llu", srv.cfg.store_dir,
+             (unsigned long long)mesh_store_bytes(srv.store), (unsigned long long)srv.cfg.store_bytes);
+    srv.uploads = upload_queue_create(srv.store, srv.cfg.max_imports);
+    if (!srv.uploads) {
+        log_line(LOG_ERROR, "out of memory at start-up");
+        goto done;
+    }
+    double t0 = monotonic_seconds();
+    srv.queue = render_queue_create(srv.cfg.queue_length, srv.cfg.device, srv.metrics, srv.cache, &err);
+    if (!srv.queue)
+        goto fail;
+    uint16_t port = 0;
+    d = http_start(&srv, &port, &err);
+    if (!d)
+        goto fail;
+    log_line(LOG_INFO, "listening on http://%s%s%s:%u (version %s, renderer %.12s)", strchr(srv.cfg.listen, ':') ? "[" : "",
+             srv.cfg.listen, strchr(srv.cfg.listen, ':') ? "]" : "", port, LUCENTD_VERSION, LUCENTD_RENDERER_HASH);
+    if (render_queue_wait_ready(srv.queue, srv.device, sizeof srv.device, &srv.max_pixels, &err) != 0)
+        goto fail;
+    atomic_store(&srv.phase, PHASE_SERVING);
+    log_line(LOG_INFO, "ready: device \"%s\", renderer warm in %.0f ms; limits: body %llu B, image %dx%d (device: %llu "
+                       "pixels), %u triangles, %d samples, %d lights, render %g s, queue %d, %d connections",
+             srv.device, (monotonic_seconds() - t0) * 1e3, (unsigned long long)srv.cfg.max_body_bytes, srv.cfg.max_width,
+             srv.cfg.max_height, (unsigned long long)srv.max_pixels, srv.cfg.max_triangles, srv.cfg.max_samples, srv.cfg.max_lights,
+             srv.cfg.render_timeout_s, srv.cfg.queue_length, srv.cfg.max_connections);
+    while (!stop_signal) {
+        render_queue_expire(srv.queue, monotonic_seconds());
+        tick();
+    }
+    log_line(LOG_INFO, "%s: draining (up to %g s)", stop_signal == SIGINT ? "SIGINT" : "SIGTERM",
+             srv.cfg.drain_timeout_s);
+    atomic_store(&srv.phase, PHASE_DRAINING);
+    MHD_socket listen_fd = MHD_quiesce_daemon(d);
+    drain(&srv, d);
+    MHD_stop_daemon(d);
+    d = NULL;
+    if (listen_fd != MHD_INVALID_SOCKET)
+        close(listen_fd); /* quiesce hands the socket to us; closed only after the daemon stopped */
+    log_line(LOG_INFO, "stopped");
+    rc = 0;
+    goto done;
+fail:
+    log_line(LOG_ERROR, "%s%s%s", err.field[0] ? err.field : "", err.field[0] ? ": " : "", err.message);
+done:
+    if (d) {
+        render_queue_cancel_all(srv.queue);
+        upload_queue_cancel_all(srv.uploads);
+        MHD_stop_daemon(d);
+    }
+    upload_queue_destroy(srv.uploads); /* imports always complete: the store is never left half-written */
+    render_queue_destroy(srv.queue);
+    mesh_store_close(srv.store);
+    lucent_shutdown();
+    image_cache_destroy(srv.cache);
+    metrics_destroy(srv.metrics);
+    return rc;
+}

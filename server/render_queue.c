@@ -1,0 +1,321 @@
+/* render_queue.c - one render worker that alone owns the lucent_renderer, fed by a mutex, a condition variable
+ * and a FIFO (Redis bio.c style); each job is finished once, and its finisher resumes the connection. */
+#include "render_queue.h"
+
+#include "access_log.h"
+#include "image_cache.h"
+#include "metrics.h"
+
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+struct render_queue {
+    pthread_mutex_t lock;
+    pthread_cond_t wake;        /* worker: a job arrived or stop; starter: ready changed */
+    pthread_t thread;
+    int capacity;
+    struct render_job *head, *tail;
+    int queued;
+    struct render_job *current;
+    int closed, stop;
+    int started;                /* 1 warm, -1 failed */
+    lucent_error start_err;
+    char device[256];
+    char device_request[128];
+    uint64_t max_pixels;        /* the renderer's largest image */
+    struct metrics *metrics;
+    struct image_cache *cache;
+};
+
+double monotonic_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+struct render_job *render_job_new(void)
+{
+    struct render_job *job = calloc(1, sizeof *job);
+    if (job)
+        job->refs = 1;
+    return job;
+}
+
+void render_job_release(struct render_queue *q, struct render_job *job)
+{
+    if (!job)
+        return;
+    pthread_mutex_lock(&q->lock);
+    int last = --job->refs == 0;
+    pthread_mutex_unlock(&q->lock);
+    if (last) {
+        free(job->bytes);
+        free(job);
+    }
+}
+
+/* Under the lock: records the outcome; the caller resumes the connection after unlocking. */
+static int finish_locked(struct render_job *job, enum job_outcome outcome)
+{
+    if (job->outcome != JOB_PENDING)
+        return 0;
+    job->outcome = outcome;
+    return 1;
+}
+
+static void remove_queued_locked(struct render_queue *q, struct render_job *job)
+{
+    struct render_job **p = &q->head;
+    while (*p && *p != job)
+        p = &(*p)->next;
+    if (!*p)
+        return;
+    *p = job->next;
+    if (q->tail == job) {
+        q->tail = q->head;
+        while (q->tail && q->tail->next)
+            q->tail = q->tail->next;
+    }
+    job->next = NULL;
+    q->queued--;
+    job->refs--; /* the queue's reference; the request still holds its own */
+}
+
+/* Renders and encodes one job outside the lock. The result goes to the cache even when the request
+ * already gave up: a retry of the same scene then finds it. */
+static void run_job(struct render_queue *q, lucent_renderer *r, struct render_job *job, double started)
+{
+    lucent_error err = {0};
+    lucent_image img = {0};
+    lucent_stats stats;
+    memset(&stats, 0, sizeof stats);
+    unsigned char *bytes = NULL;
+    size_t len = 0;
+    double t0 = monotonic_seconds();
+    lucent_status st = lucent_render(r, &job->scene, &img, &stats, &err);
+    double t1 = monotonic_seconds();
+    if (st == LUCENT_OK)
+        st = lucent_image_encode(&img, job->scene.format, job->scene.exposure, job->scene.background, &bytes, &len,
+                                 &err);
+    double t2 = monotonic_seconds();
+    lucent_image_free(&img);
+    metrics_observe(q->metrics, HIST_QUEUE_WAIT, job->scene.method, started - job->submitted);
+    if (st == LUCENT_OK) {
+        metrics_observe(q->metrics, HIST_RENDER, job->scene.method, t1 - t0);
+        metrics_observe(q->metrics, HIST_ENCODE, job->scene.method, t2 - t1);
+        image_cache_put(q->cache, job->etag, bytes, len, stats.modelled);
+    }
+    log_line(LOG_DEBUG, "render %.12s: %s in %.1f ms, encoded %zu bytes in %.1f ms%s", job->etag,
+             st == LUCENT_OK ? "rendered" : err.message, (t1 - t0) * 1e3, len, (t2 - t1) * 1e3,
+             job->outcome == JOB_PENDING ? "" : " (the request had already given up)");
+    pthread_mutex_lock(&q->lock);
+    q->current = NULL;
+    int mine = job->outcome == JOB_PENDING;
+    if (mine) {
+        job->stats = stats;
+        job->err = err;
+        job->bytes = bytes;
+        job->len = len;
+        job->queue_ms = (started - job->submitted) * 1e3;
+        job->encode_ms = (t2 - t1) * 1e3;
+        bytes = NULL;
+        finish_locked(job, st == LUCENT_OK ? JOB_RENDERED : JOB_FAILED);
+    }
+    pthread_mutex_unlock(&q->lock);
+    free(bytes);
+    if (mine)
+        MHD_resume_connection(job->connection);
+}
+
+/* A tiny frame of the default scene compiles the common pipelines before the daemon reports ready. */
+static int warm_up(struct render_queue *q, lucent_renderer *r, lucent_error *err)
+{
+    lucent_scene scene;
+    lucent_scene_defaults(&scene);
+    scene.width = scene.height = 64;
+    lucent_image img = {0};
+    lucent_stats stats;
+    lucent_status st = lucent_render(r, &scene, &img, &stats, err);
+    lucent_image_free(&img);
+    if (st == LUCENT_OK)
+        snprintf(q->device, sizeof q->device, "%s", stats.device);
+    q->max_pixels = lucent_renderer_max_pixels(r);
+    return st == LUCENT_OK ? 0 : -1;
+}
+
+static void *worker(void *arg)
+{
+    struct render_queue *q = arg;
+    lucent_error err = {0};
+    lucent_renderer_desc desc = {.device_name = q->device_request[0] ? q->device_request : NULL, .verbose = 0};
+    lucent_renderer *r = lucent_renderer_create(&desc, &err);
+    int ok = r && warm_up(q, r, &err) == 0;
+    pthread_mutex_lock(&q->lock);
+    q->started = ok ? 1 : -1;
+    q->start_err = err;
+    pthread_cond_broadcast(&q->wake);
+    while (ok) {
+        while (!q->head && !q->stop)
+            pthread_cond_wait(&q->wake, &q->lock);
+        if (!q->head)
+            break;
+        struct render_job *job = q->head;
+        q->head = job->next;
+        if (!q->head)
+            q->tail = NULL;
+        job->next = NULL;
+        q->queued--;
+        q->current = job; /* the queue's reference moves to the worker */
+        pthread_mutex_unlock(&q->lock);
+        run_job(q, r, job, monotonic_seconds());
+        render_job_release(q, job);
+        pthread_mutex_lock(&q->lock);
+    }
+    pthread_mutex_unlock(&q->lock);
+    lucent_renderer_destroy(r);
+    return NULL;
+}
+
+struct render_queue *render_queue_create(int capacity, const char *device_name, struct metrics *metrics,
+                                         struct image_cache *cache, lucent_error *err)
+{
+    struct render_queue *q = calloc(1, sizeof *q);
+    if (!q) {
+        lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory creating the render queue");
+        return NULL;
+    }
+    pthread_mutex_init(&q->lock, NULL);
+    pthread_cond_init(&q->wake, NULL);
+    q->capacity = capacity;
+    q->metrics = metrics;
+    q->cache = cache;
+    snprintf(q->device_request, sizeof q->device_request, "%s", device_name ? device_name : "");
+    if (pthread_create(&q->thread, NULL, worker, q) != 0) {
+        pthread_cond_destroy(&q->wake);
+        pthread_mutex_destroy(&q->lock);
+        free(q);
+        lucent_fail(err, LUCENT_E_INTERNAL, "", "cannot start the render thread");
+        return NULL;
+    }
+    return q;
+}
+
+int render_queue_wait_ready(struct render_queue *q, char *device, size_t cap, uint64_t *max_pixels,
+                            lucent_error *err)
+{
+    pthread_mutex_lock(&q->lock);
+    while (!q->started)
+        pthread_cond_wait(&q->wake, &q->lock);
+    int ok = q->started > 0;
+    if (ok) {
+        snprintf(device, cap, "%s", q->device);
+        *max_pixels = q->max_pixels;
+    }
+    else if (err)
+        *err = q->start_err;
+    pthread_mutex_unlock(&q->lock);
+    return ok ? 0 : -1;
+}
+
+int render_queue_submit(struct render_queue *q, struct render_job *job)
+{
+    pthread_mutex_lock(&q->lock);
+    int full = q->closed || q->started <= 0 || q->queued + (q->current != NULL) >= q->capacity;
+    if (!full) {
+        job->refs++;
+        job->submitted = monotonic_seconds();
+        MHD_suspend_connection(job->connection);
+        if (q->tail)
+            q->tail->next = job;
+        else
+            q->head = job;
+        q->tail = job;
+        q->queued++;
+        pthread_cond_signal(&q->wake);
+    }
+    pthread_mutex_unlock(&q->lock);
+    return full ? -1 : 0;
+}
+
+/* Collects the connections of the jobs finished here; resumed after the lock is released. */
+#define SWEEP_MAX 256
+
+static void sweep(struct render_queue *q, double now, enum job_outcome outcome)
+{
+    struct MHD_Connection *resume[SWEEP_MAX];
+    int n;
+    do {
+        n = 0;
+        pthread_mutex_lock(&q->lock);
+        struct render_job *job = q->head;
+        while (job && n < SWEEP_MAX) {
+            struct render_job *next = job->next;
+            if ((outcome == JOB_CANCELLED || job->deadline <= now) && finish_locked(job, outcome)) {
+                resume[n++] = job->connection;
+                remove_queued_locked(q, job);
+            }
+            job = next;
+        }
+        struct render_job *cur = q->current;
+        if (cur && n < SWEEP_MAX && (outcome == JOB_CANCELLED || cur->deadline <= now) && finish_locked(cur, outcome))
+            resume[n++] = cur->connection;
+        pthread_mutex_unlock(&q->lock);
+        for (int i = 0; i < n; i++)
+            MHD_resume_connection(resume[i]);
+    } while (n == SWEEP_MAX);
+}
+
+void render_queue_expire(struct render_queue *q, double now)
+{
+    sweep(q, now, JOB_DEADLINE);
+}
+
+void render_queue_cancel_all(struct render_queue *q)
+{
+    render_queue_close(q);
+    sweep(q, 0, JOB_CANCELLED);
+}
+
+void render_queue_close(struct render_queue *q)
+{
+    pthread_mutex_lock(&q->lock);
+    q->closed = 1;
+    pthread_mutex_unlock(&q->lock);
+}
+
+int render_queue_depth(struct render_queue *q, int *in_flight)
+{
+    pthread_mutex_lock(&q->lock);
+    int depth = q->queued + (q->current != NULL);
+    if (in_flight)
+        *in_flight = q->current != NULL;
+    pthread_mutex_unlock(&q->lock);
+    return depth;
+}
+
+int render_queue_open_jobs(struct render_queue *q)
+{
+    pthread_mutex_lock(&q->lock);
+    int open = q->queued + (q->current && q->current->outcome == JOB_PENDING);
+    pthread_mutex_unlock(&q->lock);
+    return open;
+}
+
+void render_queue_destroy(struct render_queue *q)
+{
+    if (!q)
+        return;
+    pthread_mutex_lock(&q->lock);
+    q->stop = 1;
+    q->closed = 1;
+    pthread_cond_broadcast(&q->wake);
+    pthread_mutex_unlock(&q->lock);
+    pthread_join(q->thread, NULL);
+    pthread_cond_destroy(&q->wake);
+    pthread_mutex_destroy(&q->lock);
+    free(q);
+}

@@ -1,0 +1,67 @@
+/* render_queue.h - the bounded FIFO of render jobs and the one worker thread that owns the renderer; jobs
+ * are reference-counted so a request that gave up never leaves the worker writing freed memory. */
+#ifndef LUCENTD_RENDER_QUEUE_H
+#define LUCENTD_RENDER_QUEUE_H
+
+#include "lucent.h"
+
+#include <microhttpd.h>
+
+struct metrics;
+struct image_cache;
+
+enum job_outcome { JOB_PENDING = 0, JOB_RENDERED, JOB_FAILED, JOB_DEADLINE, JOB_CANCELLED };
+
+struct render_job {
+    /* Set by the submitter, read-only once submitted. */
+    lucent_scene scene;
+    char etag[65];
+    struct MHD_Connection *connection;
+    double deadline;            /* monotonic seconds */
+    double submitted;
+    /* Written by whoever finishes the job, before outcome is set; read after the resume. */
+    enum job_outcome outcome;
+    lucent_error err;
+    unsigned char *bytes;       /* the encoded image (JOB_RENDERED) */
+    size_t len;
+    lucent_stats stats;
+    double queue_ms, encode_ms;
+    /* Owned by the queue's lock. */
+    int refs;
+    int running;
+    struct render_job *next;    /* in the FIFO */
+};
+
+struct render_queue;
+
+/* Starts the worker, which creates the renderer and warms it with one small frame.
+ * device_name may be NULL or "" (automatic). */
+struct render_queue *render_queue_create(int capacity, const char *device_name, struct metrics *metrics,
+                                         struct image_cache *cache, lucent_error *err);
+/* Blocks until the renderer is warm (0: device and the largest image in pixels filled in) or failed to
+ * start (-1, err). */
+int render_queue_wait_ready(struct render_queue *q, char *device, size_t cap, uint64_t *max_pixels,
+                            lucent_error *err);
+/* A new job holding one reference (the caller's), or NULL when out of memory. */
+struct render_job *render_job_new(void);
+void render_job_release(struct render_queue *q, struct render_job *job);
+/* Suspends job->connection and queues the job (taking a reference of its own), both under the queue's
+ * lock so the worker cannot finish it first; the queue resumes the connection exactly once. Call it
+ * from the connection's access handler. -1 (nothing suspended): the queue is full or closed. */
+int render_queue_submit(struct render_queue *q, struct render_job *job);
+/* Finishes, with JOB_DEADLINE, every job whose deadline has passed. Call it periodically. */
+void render_queue_expire(struct render_queue *q, double now);
+/* Finishes every unfinished job with JOB_CANCELLED and refuses new ones. */
+void render_queue_cancel_all(struct render_queue *q);
+/* Stops accepting jobs; queued ones still run. */
+void render_queue_close(struct render_queue *q);
+/* Jobs waiting or running; in_flight (may be NULL) gets the running count. */
+int render_queue_depth(struct render_queue *q, int *in_flight);
+/* Jobs not yet finished (resumed). */
+int render_queue_open_jobs(struct render_queue *q);
+/* Joins the worker (after its current render) and destroys the renderer. */
+void render_queue_destroy(struct render_queue *q);
+
+double monotonic_seconds(void);
+
+#endif

@@ -1,0 +1,258 @@
+/* test_lucentd_units.c - the daemon's pure parts without HTTP or Vulkan: the ETag changes with every scene
+ * field, GET query fields build the same scene as the POST document, the error table, the image LRU. */
+#include "image_cache.h"
+#include "problem.h"
+#include "scene_canonical.h"
+#include "scene_query.h"
+#include "test_support.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static lucent_scene parse(const char *json)
+{
+    lucent_scene s;
+    lucent_error err = {0};
+    if (lucent_scene_parse(json, strlen(json), 0, &s, &err) != LUCENT_OK) {
+        fprintf(stderr, "test scene rejected: %s: %s\n", err.field, err.message);
+        exit(1);
+    }
+    return s;
+}
+
+/* One scene per field, each differing from the defaults in that field only. */
+static const char *const variants[] = {
+    "{}",
+    "{\"mesh\":{\"builtin\":\"torus\"}}",
+    "{\"mesh\":{\"builtin\":\"sphere\",\"triangles\":5000}}",
+    "{\"mesh\":{\"id\":\"0000000000000000000000000000000000000000000000000000000000000000\"}}",
+    "{\"mesh\":{\"id\":\"0000000000000000000000000000000000000000000000000000000000000001\"}}",
+    "{\"scale_mm\":10}",
+    "{\"material\":{\"preset\":\"skin1\"}}",
+    "{\"material\":{\"sigma_a\":[0.0021,0.0041,0.0071],\"sigma_s_prime\":[2.19,2.62,3.00],\"eta\":1.5}}",
+    "{\"material\":{\"sigma_a\":[0.0022,0.0041,0.0071],\"sigma_s_prime\":[2.19,2.62,3.00],\"eta\":1.5}}",
+    "{\"material\":{\"sigma_a\":[0.0021,0.0042,0.0071],\"sigma_s_prime\":[2.19,2.62,3.00],\"eta\":1.5}}",
+    "{\"material\":{\"sigma_a\":[0.0021,0.0041,0.0072],\"sigma_s_prime\":[2.19,2.62,3.00],\"eta\":1.5}}",
+    "{\"material\":{\"sigma_a\":[0.0021,0.0041,0.0071],\"sigma_s_prime\":[2.2,2.62,3.00],\"eta\":1.5}}",
+    "{\"material\":{\"sigma_a\":[0.0021,0.0041,0.0071],\"sigma_s_prime\":[2.19,2.63,3.00],\"eta\":1.5}}",
+    "{\"material\":{\"sigma_a\":[0.0021,0.0041,0.0071],\"sigma_s_prime\":[2.19,2.62,3.01],\"eta\":1.5}}",
+    "{\"material\":{\"sigma_a\":[0.0021,0.0041,0.0071],\"sigma_s_prime\":[2.19,2.62,3.00],\"eta\":1.4}}",
+    "{\"material\":{\"preset\":\"marble\",\"g\":0.5}}",
+    "{\"lights\":[{\"direction\":[-1,-1,-1]},{\"direction\":[1,0,0]}]}",
+    "{\"lights\":[{\"direction\":[-1,0,0]}]}",
+    "{\"lights\":[{\"direction\":[0,-1,0]}]}",
+    "{\"lights\":[{\"direction\":[0,0,-1]}]}",
+    "{\"lights\":[{\"type\":\"point\",\"position\":[1,0,0]}]}",
+    "{\"lights\":[{\"type\":\"point\",\"position\":[0,1,0]}]}",
+    "{\"lights\":[{\"type\":\"point\",\"position\":[0,0,1]}]}",
+    "{\"lights\":[{\"direction\":[-1,-1,-1],\"color\":[0.5,1,1]}]}",
+    "{\"lights\":[{\"direction\":[-1,-1,-1],\"color\":[1,0.5,1]}]}",
+    "{\"lights\":[{\"direction\":[-1,-1,-1],\"color\":[1,1,0.5]}]}",
+    "{\"lights\":[{\"direction\":[-1,-1,-1],\"intensity\":2}]}",
+    "{\"camera\":{\"position\":[0,0,5],\"target\":[0,0,0]}}",
+    "{\"camera\":{\"position\":[0,0,6],\"target\":[0,0,0]}}",
+    "{\"camera\":{\"position\":[0,0,5],\"target\":[0,0.1,0]}}",
+    "{\"camera\":{\"position\":[0,0,5],\"target\":[0,0,0],\"up\":[1,0,0]}}",
+    "{\"camera\":{\"position\":[0,0,5],\"target\":[0,0,0],\"fov_deg\":30}}",
+    "{\"width\":256}",
+    "{\"height\":256}",
+    "{\"method\":\"single\"}",
+    "{\"method\":\"reference\"}",
+    "{\"method\":\"auto\"}",
+    "{\"samples\":8}",
+    "{\"sampling\":\"per_channel\"}",
+    "{\"fallback\":\"front\"}",
+    "{\"single_scattering\":true}",
+    "{\"projection_size\":256}",
+    "{\"side_projection_size\":128}",
+    "{\"background\":[0.1,0,0,0]}",
+    "{\"background\":[0,0.1,0,0]}",
+    "{\"background\":[0,0,0.1,0]}",
+    "{\"background\":[0,0,0,0.5]}",
+    "{\"exposure\":1}",
+    "{\"format\":\"exr\"}",
+    "{\"method\":\"reference\",\"reference\":{\"points\":2000}}",
+    "{\"method\":\"reference\",\"reference\":{\"threshold\":0.5}}",
+};
+#define VARIANTS ((int)(sizeof variants / sizeof variants[0]))
+
+static void etags_cover_every_field(void)
+{
+    static char tags[VARIANTS][65];
+    int distinct = 1;
+    for (int i = 0; i < VARIANTS; i++) {
+        lucent_scene s = parse(variants[i]);
+        if (scene_etag(&s, "device", tags[i]) != 0) {
+            test_check(0, "etag of %s", variants[i]);
+            return;
+        }
+        for (int j = 0; j < i; j++)
+            if (strcmp(tags[i], tags[j]) == 0) {
+                distinct = 0;
+                printf("   same etag: %s and %s\n", variants[i], variants[j]);
+            }
+    }
+    test_check(distinct, "%d scenes differing in one field each have %d different ETags", VARIANTS, VARIANTS);
+    lucent_scene a = parse("{\"lights\":[{\"direction\":[-1,-1,-1]}]}");
+    lucent_scene b = parse("{\"lights\":[{\"direction\":[-2,-2,-2],\"intensity\":1.0}]}");
+    char ta[65], tb[65], tc[65];
+    scene_etag(&a, "device", ta);
+    scene_etag(&b, "device", tb);
+    test_check(strcmp(ta, tb) == 0, "scenes equal after parsing share one ETag (%.12s, %.12s)", ta, tb);
+    scene_etag(&a, "other device", tc);
+    test_check(strcmp(ta, tc) != 0, "the device is part of the ETag");
+    a.exposure = -0.0;
+    b.exposure = 0.0;
+    scene_etag(&a, "device", ta);
+    scene_etag(&b, "device", tb);
+    test_check(strcmp(ta, tb) == 0, "-0 and 0 give one ETag");
+    char text[4096];
+    int n = scene_canonical(&a, text, sizeof text);
+    test_check(n > 0 && scene_canonical(&a, text, 16) == -1, "canonical text is %d bytes; a small buffer is refused", n);
+}
+
+static lucent_status query(const char *const *kv, int count, lucent_scene *s, lucent_error *err)
+{
+    struct query_field f[32];
+    for (int i = 0; i < count; i++)
+        f[i] = (struct query_field){kv[2 * i], kv[2 * i + 1]};
+    int format_given = 0;
+    return scene_query_parse(f, count, s, &format_given, err);
+}
+
+static void query_matches_document(void)
+{
+    static const char *const kv[] = {
+        "mesh", "torus", "mesh_triangles", "3000", "scale_mm", "20", "sigma_a", "0.01,0.02,0.03",
+        "sigma_s_prime", "1,2,3", "eta", "1.4", "g", "0.2", "light_pos", "3,4,5", "light_color", "1,0.5,0.25",
+        "light_intensity", "7", "camera_pos", "0,1,5", "camera_target", "0,0.5,0", "camera_up", "0,1,0.1",
+        "fov", "35", "w", "200", "h", "100", "method", "single", "samples", "12", "sampling", "per_channel",
+        "fallback", "front", "single_scattering", "true", "projection_size", "256", "side_projection_size", "64",
+        "background", "0.1,0.2,0.3,0.4", "exposure", "-1.5", "format", "exr"};
+    const char *doc = "{\"mesh\":{\"builtin\":\"torus\",\"triangles\":3000},\"scale_mm\":20,"
+                      "\"material\":{\"sigma_a\":[0.01,0.02,0.03],\"sigma_s_prime\":[1,2,3],\"eta\":1.4,\"g\":0.2},"
+                      "\"lights\":[{\"type\":\"point\",\"position\":[3,4,5],\"color\":[1,0.5,0.25],\"intensity\":7}],"
+                      "\"camera\":{\"position\":[0,1,5],\"target\":[0,0.5,0],\"up\":[0,1,0.1],\"fov_deg\":35},"
+                      "\"width\":200,\"height\":100,\"method\":\"single\",\"samples\":12,\"sampling\":\"per_channel\","
+                      "\"fallback\":\"front\",\"single_scattering\":true,\"projection_size\":256,"
+                      "\"side_projection_size\":64,\"background\":[0.1,0.2,0.3,0.4],\"exposure\":-1.5,\"format\":\"exr\"}";
+    lucent_scene q, d = parse(doc);
+    lucent_error err = {0};
+    lucent_status st = query(kv, (int)(sizeof kv / sizeof kv[0] / 2), &q, &err);
+    char tq[4096] = "", td[4096] = "";
+    if (st == LUCENT_OK)
+        scene_canonical(&q, tq, sizeof tq);
+    scene_canonical(&d, td, sizeof td);
+    test_check(st == LUCENT_OK && strcmp(tq, td) == 0, "%zu query fields build the POST document's scene%s%s",
+               sizeof kv / sizeof kv[0] / 2, st == LUCENT_OK ? "" : ": ", st == LUCENT_OK ? "" : err.message);
+
+    static const char *const id[] = {"mesh", "00000000000000000000000000000000000000000000000000000000000000ab"};
+    st = query(id, 1, &q, &err);
+    test_check(st == LUCENT_OK && q.mesh.source == LUCENT_MESH_STORED && strcmp(q.mesh.id, id[1]) == 0,
+               "mesh=<64 hex> names a stored mesh");
+
+    static const struct {
+        const char *key, *value, *field;
+    } bad[] = {
+        {"light_dir", "0,0,0", "light_dir"},     {"background", "0,0,0,2", "background[3]"}, {"w", "1.5", "w"},
+        {"w", "abc", "w"},                       {"mesh", "cube", "mesh"},            {"eta", "nan", "eta"},
+        {"single_scattering", "yes", "single_scattering"}, {"colour", "red", "colour"},
+        {"mesh_triangles", "5000", "mesh"},      {"w", "0x10", "w"},                  {"w", " 64", "w"},
+        {"exposure", "+1", "exposure"},          {"exposure", "1.", "exposure"},      {"exposure", "01", "exposure"},
+        {"background", "0,,0,1", "background"}, {"background", "0,0,0,", "background"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        const char *kv1[] = {bad[i].key, bad[i].value};
+        memset(&err, 0, sizeof err);
+        st = query(kv1, 1, &q, &err);
+        test_check(st != LUCENT_OK && strcmp(err.field, bad[i].field) == 0, "%s=%s refused naming \"%s\" (got \"%s\": %s)",
+                   bad[i].key, bad[i].value, bad[i].field, err.field, err.message);
+    }
+    const char *twice[] = {"w", "10", "w", "20"};
+    st = query(twice, 2, &q, &err);
+    test_check(st == LUCENT_E_INVALID && strcmp(err.field, "w") == 0, "a repeated field is refused");
+}
+
+static void problem_table(void)
+{
+    static const struct {
+        int code;
+        const char *field;
+        unsigned http;
+    } rows[] = {
+        {LUCENT_E_INVALID, "width", 400},       {LUCENT_E_INVALID, "Content-Type", 415},
+        {LUCENT_E_INVALID, "mesh.id", 404},     {LUCENT_E_MESH, "mesh", 422},
+        {LUCENT_E_LIMIT, "width", 413},         {LUCENT_E_IO, "", 500},
+        {LUCENT_E_VULKAN, "", 500},             {LUCENT_E_INTERNAL, "", 500},
+        {PROBLEM_NO_ROUTE, "", 404},            {PROBLEM_METHOD, "", 405},
+        {PROBLEM_NOT_ACCEPTABLE, "Accept", 406}, {PROBLEM_UNAUTHORIZED, "", 401},
+        {PROBLEM_QUEUE_FULL, "", 503},          {PROBLEM_DEADLINE, "", 503},
+        {PROBLEM_BODY_TOO_LARGE, "", 413},      {9999, "", 500},
+    };
+    int ok = 1;
+    for (size_t i = 0; i < sizeof rows / sizeof rows[0]; i++) {
+        const struct problem_kind *k = problem_lookup(rows[i].code, rows[i].field);
+        if (!k || k->http_status != rows[i].http) {
+            ok = 0;
+            printf("   code %d field %s: got %u, expected %u\n", rows[i].code, rows[i].field, k ? k->http_status : 0,
+                   rows[i].http);
+        }
+    }
+    test_check(ok, "%zu error codes map to their HTTP statuses (unknown codes to 500)", sizeof rows / sizeof rows[0]);
+    lucent_error err = {0};
+    lucent_fail(&err, LUCENT_E_INVALID, "material.eta", "bad \xff byte \"quoted\"");
+    size_t len = 0;
+    char *body = problem_json(problem_lookup(err.status, err.field), &err, "req-1", &len);
+    test_check(body && strstr(body, "\"field\":\"material.eta\"") && strstr(body, "\"status\":400") &&
+                   strstr(body, "bad ? byte \\\"quoted\\\""),
+               "problem body: %s", body ? body : "(null)");
+    free(body);
+}
+
+static int cached(struct image_cache *c, const char *key)
+{
+    unsigned char *bytes = NULL;
+    size_t len = 0;
+    char meta[16];
+    int hit = image_cache_get(c, key, &bytes, &len, meta, sizeof meta);
+    free(bytes);
+    return hit;
+}
+
+static void image_cache_lru(void)
+{
+    unsigned char block[400];
+    memset(block, 7, sizeof block);
+    struct image_cache *c = image_cache_create(1000);
+    image_cache_put(c, "a", block, 400, "ma");
+    image_cache_put(c, "b", block, 400, "mb");
+    unsigned char *bytes = NULL;
+    size_t len = 0;
+    char meta[16] = "";
+    int hit = image_cache_get(c, "a", &bytes, &len, meta, sizeof meta); /* a is now the most recent */
+    test_check(hit && len == 400 && bytes[399] == 7 && strcmp(meta, "ma") == 0, "hit returns the bytes and metadata");
+    free(bytes);
+    image_cache_put(c, "c", block, 400, "mc");
+    test_check(cached(c, "a") && !cached(c, "b") && cached(c, "c") && image_cache_bytes(c) == 800,
+               "over budget the least recently used entry goes (%llu bytes kept of 1000)",
+               (unsigned long long)image_cache_bytes(c));
+    image_cache_destroy(c);
+    c = image_cache_create(300);
+    image_cache_put(c, "a", block, 400, "");
+    test_check(!cached(c, "a") && image_cache_bytes(c) == 0, "an image larger than the budget is not stored");
+    image_cache_destroy(c);
+    c = image_cache_create(0);
+    image_cache_put(c, "a", block, 1, "");
+    test_check(!cached(c, "a"), "budget 0 stores nothing");
+    image_cache_destroy(c);
+}
+
+int main(void)
+{
+    etags_cover_every_field();
+    query_matches_document();
+    problem_table();
+    image_cache_lru();
+    return test_finish();
+}
