@@ -313,6 +313,35 @@ c=$(req "$work/hit.png" GET "$A/v1/render?mesh=$cube_id&w=64&h=64&light_dir=-1,-
 check "second request is a cache hit ($c): $(header "$work/hit.png" Server-Timing)" grep -qi '^server-timing: cache;desc=hit' "$work/hit.png.h"
 check "cache hit is byte-identical" cmp -s "$work/cube2.png" "$work/hit.png"
 check "metrics count the hit" bash -c "curl -s '$A/metrics' | grep -q '^lucentd_image_cache_hits_total 1'"
+# A stored mesh damaged on disk is an internal failure the daemon survives: 500, then business as usual.
+python3 -c "import sys; p=sys.argv[1]; b=bytearray(open(p,'rb').read()); b[len(b)//2] ^= 0xff; open(p,'wb').write(b)" \
+    "$store/$cube_id.lmesh"
+c=$(req "$work/e" GET "$A/v1/render?mesh=$cube_id&w=64&h=64&light_dir=-1,-0.5,-1&exposure=1&$fast")
+check "a damaged stored mesh -> 500 ($c): $(json_field "$work/e" '["detail"]' | cut -c1-70)" problem "$work/e" 500 mesh.file
+c=$(req "$work/after.png" GET "$A/v1/render?w=64&h=64&exposure=2&$fast")
+check "the daemon renders on after the 500 ($c)" pngs "$work/after.png:64:64"
+# Memory stays flat: 1000 distinct renders (16x16, each its own ETag) on one keep-alive connection.
+python3 - "$A" "$pid" >"$work/rss.txt" <<'EOF2'
+import http.client, sys, urllib.parse
+base, pid = urllib.parse.urlparse(sys.argv[1]), sys.argv[2]
+conn = http.client.HTTPConnection(base.hostname, base.port, timeout=60)
+def rss_kb():
+    for line in open("/proc/%s/status" % pid):
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1])
+bad, marks = 0, {}
+for i in range(1000):
+    conn.request("GET", "/v1/render?w=16&h=16&samples=4&projection_size=64&exposure=%.4f" % (i / 1000.0))
+    r = conn.getresponse()
+    r.read()
+    bad += r.status != 200
+    if i + 1 in (200, 1000):
+        marks[i + 1] = rss_kb()
+print(bad, marks[200], marks[1000])
+EOF2
+read -r rss_bad rss_200 rss_1000 <"$work/rss.txt"
+check "1000 renders: $rss_bad failed; resident memory ${rss_200} kB after 200, ${rss_1000} kB after 1000 (growth < 4 MB)" \
+    [ "$rss_bad" = 0 -a $(( rss_1000 - rss_200 )) -lt 4096 ]
 stop "$pid"; rc=$?
 check "A2: SIGTERM -> exit 0 ($rc)" [ "$rc" = 0 ]
 
