@@ -31,6 +31,7 @@ const char *lucent_status_name(lucent_status s)
     case LUCENT_E_NOMEM: return "nomem";
     case LUCENT_E_VULKAN: return "vulkan";
     case LUCENT_E_INTERNAL: return "internal";
+    case LUCENT_E_CANCELLED: return "cancelled";
     }
     return "unknown";
 }

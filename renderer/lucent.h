@@ -18,7 +18,8 @@ typedef enum lucent_status {
     LUCENT_E_IO,        /* a file could not be read or written */
     LUCENT_E_NOMEM,
     LUCENT_E_VULKAN,    /* the GPU side failed; the message says which call */
-    LUCENT_E_INTERNAL
+    LUCENT_E_INTERNAL,
+    LUCENT_E_CANCELLED  /* lucent_render_cancel() stopped the render */
 } lucent_status;
 
 /* What went wrong, in words a user can act on. `field` is a JSON path such as
@@ -244,6 +245,10 @@ uint64_t lucent_renderer_max_pixels(const lucent_renderer *r);
  * lucent_image_free. stats may be NULL. */
 lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucent_image *out,
                             lucent_stats *stats, lucent_error *err);
+/* Asks the render running on r to stop; safe from any thread. The reference method stops within a
+ * row of pixels and returns LUCENT_E_CANCELLED; image-space frames are short and finish. A request
+ * made while no render runs is forgotten when the next one starts. */
+void lucent_render_cancel(lucent_renderer *r);
 /* Writes stats as one JSON object; returns the length or -1 if cap is too small. */
 int lucent_stats_json(const lucent_stats *stats, char *buf, size_t cap);
 

@@ -70,6 +70,7 @@ struct context {
     uint32_t node_count;
     uint32_t *order;
     lucent_image *out;
+    const atomic_int *cancel;
 };
 
 static double now_ms(void)
@@ -473,9 +474,14 @@ static void shade_pixel(struct context *ctx, int x, int y)
     img->facing[i] = (float)facing;
 }
 
+static int cancelled(const struct context *ctx)
+{
+    return ctx->cancel && atomic_load(ctx->cancel);
+}
+
 static void shade_rows(struct context *ctx, size_t begin, size_t end)
 {
-    for (size_t y = begin; y < end; y++)
+    for (size_t y = begin; y < end && !cancelled(ctx); y++)
         for (int x = 0; x < ctx->out->width; x++)
             shade_pixel(ctx, x, (int)y);
 }
@@ -557,6 +563,7 @@ lucent_status reference_render(const lucent_scene *scene, const struct lucent_me
 {
     struct context ctx = {.scene = scene, .mesh = mesh, .camera = camera, .scale_mm = scale_mm,
                           .eta = scene->material.eta, .out = out, .brute_force = options->brute_force,
+                          .cancel = options->cancel,
                           .threshold = options->threshold > 0.0 ? options->threshold : DEFAULT_THRESHOLD};
     *report = (struct reference_report){0};
     *out = (lucent_image){0};
@@ -588,6 +595,10 @@ lucent_status reference_render(const lucent_scene *scene, const struct lucent_me
         goto fail;
     double t1 = now_ms();
     run_parallel(&ctx, threads, (size_t)out->height, 1, shade_rows);
+    if (cancelled(&ctx)) {
+        st = lucent_fail(err, LUCENT_E_CANCELLED, "", "the reference render was cancelled");
+        goto fail;
+    }
     double area_mm2 = ctx.total_area * scale_mm * scale_mm;
     report->points = (uint32_t)ctx.point_count;
     report->point_spacing_mm = sqrt(area_mm2 / (double)ctx.point_count);

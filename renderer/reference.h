@@ -8,12 +8,15 @@
 #include "mesh.h"
 #include "view_frame.h"
 
+#include <stdatomic.h>
+
 struct reference_options {
     uint32_t points;      /* irradiance points over the whole surface; 0 = automatic (see .c) */
     int brute_force;      /* 1: sum every point for every pixel; 0: hierarchical */
     double threshold;     /* hierarchical: a node of extent s at distance d is used whole when
                            * s / d < threshold; 0 = default */
     int threads;          /* 0 = one per online CPU */
+    const atomic_int *cancel;  /* when it turns non-zero the render stops (LUCENT_E_CANCELLED) */
 };
 
 /* What the integrator can say about its own accuracy. */

@@ -5,6 +5,7 @@
 #include "reference.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,6 +20,7 @@ struct lucent_renderer {
     VkQueryPool queries;
     struct frame_plan plan;   /* rebuilt every frame; lives here to keep 4 KB of samples off the stack */
     struct auto_plan chosen;  /* method "auto": the scene actually rendered */
+    atomic_int cancel;        /* set by lucent_render_cancel from any thread */
     int verbose;
 };
 
@@ -228,8 +230,8 @@ static void describe(const lucent_scene *requested, const lucent_scene *s, const
 }
 
 /* method "reference": the CPU integrator on the cached mesh, with the same camera and AOVs. */
-static lucent_status render_reference(const lucent_scene *scene, const struct gpu_mesh *gm, lucent_image *out,
-                                      lucent_stats *stats, lucent_error *err)
+static lucent_status render_reference(lucent_renderer *r, const lucent_scene *scene, const struct gpu_mesh *gm,
+                                      lucent_image *out, lucent_stats *stats, lucent_error *err)
 {
     struct view_frame camera;
     lucent_status st = frame_camera(scene, gm->mesh, &camera, err);
@@ -238,7 +240,8 @@ static lucent_status render_reference(const lucent_scene *scene, const struct gp
     double scale_mm = frame_scale_mm(scene, gm->mesh);
     struct reference_options options = {.points = scene->reference_points,
                                         .brute_force = scene->reference_threshold == 0.0,
-                                        .threshold = fmax(scene->reference_threshold, 0.0)};
+                                        .threshold = fmax(scene->reference_threshold, 0.0),
+                                        .cancel = &r->cancel};
     struct reference_report report;
     int with_aovs = scene->format == LUCENT_FORMAT_EXR;
     st = reference_render(scene, gm->mesh, &camera, scale_mm, &options, with_aovs, out, &report, err);
@@ -264,6 +267,7 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
     memset(stats, 0, sizeof *stats);
     memset(out, 0, sizeof *out);
     snprintf(stats->device, sizeof stats->device, "%s", r->ctx.device_name);
+    atomic_store(&r->cancel, 0);
     double t0 = now_ms();
     struct gpu_mesh *gm;
     struct frame_plan *plan = &r->plan;
@@ -272,7 +276,7 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
         (st = mesh_cache_get(&r->ctx, &r->meshes, &scene->mesh, &gm, &stats->ms_mesh_load, err)))
         return st;
     if (scene->method == LUCENT_METHOD_REFERENCE) {
-        st = render_reference(scene, gm, out, stats, err);
+        st = render_reference(r, scene, gm, out, stats, err);
         stats->ms_total = now_ms() - t0;
         return st;
     }
@@ -305,6 +309,11 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
     stats->ms_total = now_ms() - t0;
     describe(scene, s, chosen, plan, gm, stats);
     return LUCENT_OK;
+}
+
+void lucent_render_cancel(lucent_renderer *r)
+{
+    atomic_store(&r->cancel, 1);
 }
 
 int lucent_stats_json(const lucent_stats *s, char *buf, size_t cap)

@@ -20,6 +20,7 @@ struct render_queue {
     struct render_job *head, *tail;
     int queued;
     struct render_job *current;
+    lucent_renderer *renderer;  /* the worker's, for lucent_render_cancel (thread-safe) */
     int closed, stop;
     int started;                /* 1 warm, -1 failed */
     lucent_error start_err;
@@ -155,6 +156,7 @@ static void *worker(void *arg)
     lucent_renderer *r = lucent_renderer_create(&desc, &err);
     int ok = r && warm_up(q, r, &err) == 0;
     pthread_mutex_lock(&q->lock);
+    q->renderer = ok ? r : NULL;
     q->started = ok ? 1 : -1;
     q->start_err = err;
     pthread_cond_broadcast(&q->wake);
@@ -175,6 +177,7 @@ static void *worker(void *arg)
         render_job_release(q, job);
         pthread_mutex_lock(&q->lock);
     }
+    q->renderer = NULL;
     pthread_mutex_unlock(&q->lock);
     lucent_renderer_destroy(r);
     return NULL;
@@ -261,7 +264,12 @@ static void sweep(struct render_queue *q, double now, enum job_outcome outcome)
             job = next;
         }
         struct render_job *cur = q->current;
-        if (cur && n < SWEEP_MAX && (outcome == JOB_CANCELLED || cur->deadline <= now) && finish_locked(cur, outcome))
+        int overdue = cur && (outcome == JOB_CANCELLED || cur->deadline <= now);
+        /* Stops a long (reference) render whose answer nobody waits for; asked again on every sweep
+         * in case the first request came just before the render began. */
+        if (overdue && q->renderer)
+            lucent_render_cancel(q->renderer);
+        if (overdue && n < SWEEP_MAX && finish_locked(cur, outcome))
             resume[n++] = cur->connection;
         pthread_mutex_unlock(&q->lock);
         for (int i = 0; i < n; i++)

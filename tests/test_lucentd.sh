@@ -391,8 +391,17 @@ check "B log says draining then stopped" bash -c "grep -q 'SIGTERM: draining' '$
 start C --store-dir "$work/storeC" --render-timeout 0.1 --max-width 4096 --max-height 4096
 c=$(req "$work/e" GET "$base/v1/render?w=4000&h=4000")
 check "413 image larger than the device renders ($c): $(json_field "$work/e" '["detail"]')" problem "$work/e" 413 w
-c=$(req "$work/e" GET "$base/v1/render?$slow")
+c=$(req "$work/e" GET "$base/v1/render?method=reference&w=384&h=384")
 check "render over render-timeout -> 503 ($c): $(json_field "$work/e" '["detail"]' | cut -c1-60)" problem "$work/e" 503 ""
+# The overdue reference render (many seconds) is cancelled, so the worker is free again at once.
+t0=$(date +%s%N)
+for _ in $(seq 1 60); do
+    [[ $(curl -s "$base/metrics" | awk '$1 == "lucentd_renders_in_flight" { print $2 }') == 0 ]] && break
+    sleep 0.05
+done
+t1=$(date +%s%N)
+check "the overdue render was cancelled: no render in flight $(( (t1 - t0) / 1000000 )) ms after its 503 (< 3000)" \
+    [ $(( (t1 - t0) / 1000000 )) -lt 3000 ]
 c=$(req "$work/h" GET "$base/healthz")
 check "daemon still healthy after a deadline ($c)" [ "$c" = 200 ]
 stop "$pid"; rc=$?

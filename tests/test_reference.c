@@ -6,9 +6,11 @@
 #include "test_support.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #define PI 3.14159265358979323846
@@ -201,6 +203,46 @@ static void check_rejects(void)
     lucent_mesh_free(f.mesh);
 }
 
+static double seconds_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static void *cancel_soon(void *renderer)
+{
+    nanosleep(&(struct timespec){0, 200 * 1000 * 1000}, NULL);
+    lucent_render_cancel(renderer);
+    return NULL;
+}
+
+/* A daemon cancels a reference render nobody waits for any more: it must stop within a row. */
+static void check_cancel(void)
+{
+    lucent_renderer *r = test_renderer();
+    const char *json = "{\"mesh\":{\"builtin\":\"sphere\"},\"width\":512,\"height\":512,\"method\":\"reference\"}";
+    lucent_scene scene;
+    lucent_scene_parse(json, strlen(json), 0, &scene, NULL);
+    lucent_image img = {0};
+    lucent_error err = {0};
+    pthread_t thread;
+    double t0 = seconds_now();
+    pthread_create(&thread, NULL, cancel_soon, r);
+    lucent_status st = lucent_render(r, &scene, &img, NULL, &err);
+    double elapsed = seconds_now() - t0;
+    pthread_join(thread, NULL);
+    test_check(st == LUCENT_E_CANCELLED && elapsed < 2.0,
+               "512x512 reference cancelled after 0.2 s: status %s, returned after %.2f s (tol 2 s): %s",
+               lucent_status_name(st), elapsed, err.message);
+    lucent_image_free(&img);
+    scene.width = scene.height = 32;
+    st = lucent_render(r, &scene, &img, NULL, &err);
+    test_check(st == LUCENT_OK, "the next render is not cancelled: status %s", lucent_status_name(st));
+    lucent_image_free(&img);
+    lucent_renderer_destroy(r);
+}
+
 int main(void)
 {
     const char *square = test_write_square_obj();
@@ -214,6 +256,7 @@ int main(void)
     check_extreme("{\"preset\":\"spectralon\"}");
     check_extreme("{\"sigma_a\":[0.0021,0.0041,0.0071],\"sigma_s_prime\":[2.19,2.62,3.0],\"eta\":1}");
     check_rejects();
+    check_cancel();
     unlink(square);
     return test_finish();
 }
