@@ -219,6 +219,7 @@ typedef struct lucent_renderer lucent_renderer;
 typedef struct lucent_renderer_desc {
     const char *device_name;  /* substring of the Vulkan device name; NULL = $LUCENT_DEVICE or automatic */
     int verbose;              /* log the chosen device and resource creation to stderr */
+    uint64_t mesh_cache_bytes; /* meshes kept loaded (GPU buffers and CPU copies); 0 = 512 MiB */
 } lucent_renderer_desc;
 
 /* Time of each pass (ms, measured on the device where it supports timestamps) and what was
@@ -227,6 +228,7 @@ typedef struct lucent_stats {
     double ms_mesh_load, ms_shadow, ms_projection, ms_gbuffer, ms_scatter, ms_readback, ms_total;
     uint32_t triangles, proxy_triangles;
     int shadow_maps, views;
+    uint64_t mesh_cache_bytes;  /* what the renderer's cached meshes hold after this frame */
     char device[256];
     char modelled[2048];
 } lucent_stats;

@@ -122,11 +122,63 @@ static lucent_status ensure_proxy(struct vk_context *ctx, const struct lucent_me
     return st;
 }
 
-lucent_status mesh_cache_proxies(struct vk_context *ctx, struct gpu_mesh *s, int projection_size, int side_size,
-                                 lucent_error *err)
+void mesh_cache_init(struct mesh_cache *cache, uint64_t budget_bytes)
+{
+    memset(cache, 0, sizeof *cache);
+    cache->budget = budget_bytes;
+}
+
+static uint64_t geometry_bytes(const struct gpu_geometry *g)
+{
+    return g->positions.size + g->normals.size + g->indices.size;
+}
+
+static uint64_t slot_bytes(const struct gpu_mesh *s)
+{
+    if (!s->mesh)
+        return 0;
+    uint64_t cpu = (uint64_t)s->mesh->vertex_count * 24 + (uint64_t)s->mesh->triangle_count * 12;
+    return cpu + geometry_bytes(&s->full) + geometry_bytes(&s->proxies[PROXY_FRONT].geometry) +
+           geometry_bytes(&s->proxies[PROXY_SIDES].geometry);
+}
+
+uint64_t mesh_cache_bytes(const struct mesh_cache *cache)
+{
+    uint64_t total = 0;
+    for (int i = 0; i < MESH_CACHE_SLOTS; i++)
+        total += slot_bytes(&cache->slots[i]);
+    return total;
+}
+
+/* Evicts least recently used meshes other than `keep` until the cache fits its budget; fails when
+ * `keep` alone does not fit (it is evicted too). */
+static lucent_status trim(struct vk_context *ctx, struct mesh_cache *cache, struct gpu_mesh *keep, lucent_error *err)
+{
+    while (mesh_cache_bytes(cache) > cache->budget) {
+        struct gpu_mesh *oldest = NULL;
+        for (int i = 0; i < MESH_CACHE_SLOTS; i++) {
+            struct gpu_mesh *s = &cache->slots[i];
+            if (s->mesh && s != keep && (!oldest || s->last_used < oldest->last_used))
+                oldest = s;
+        }
+        if (!oldest) {
+            uint64_t need = slot_bytes(keep);
+            slot_clear(ctx, keep);
+            return lucent_fail(err, LUCENT_E_LIMIT, "mesh", "the mesh needs %.1f MB in the renderer; its mesh cache "
+                               "holds at most %.1f MB", need / 1048576.0, cache->budget / 1048576.0);
+        }
+        slot_clear(ctx, oldest);
+    }
+    return LUCENT_OK;
+}
+
+lucent_status mesh_cache_proxies(struct vk_context *ctx, struct mesh_cache *cache, struct gpu_mesh *s,
+                                 int projection_size, int side_size, lucent_error *err)
 {
     lucent_status st = ensure_proxy(ctx, s->mesh, &s->proxies[PROXY_FRONT], projection_size, err);
-    return st == LUCENT_OK ? ensure_proxy(ctx, s->mesh, &s->proxies[PROXY_SIDES], side_size, err) : st;
+    if (st == LUCENT_OK)
+        st = ensure_proxy(ctx, s->mesh, &s->proxies[PROXY_SIDES], side_size, err);
+    return st == LUCENT_OK ? trim(ctx, cache, s, err) : st;
 }
 
 const struct gpu_geometry *gpu_mesh_geometry(const struct gpu_mesh *m, int which)
@@ -164,6 +216,8 @@ lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, c
     }
     snprintf(victim->key, sizeof victim->key, "%s", key);
     victim->last_used = ++cache->clock;
+    if ((st = trim(ctx, cache, victim, err)) != LUCENT_OK)
+        return st;
     *load_ms = now_ms() - t0;
     *out = victim;
     return LUCENT_OK;

@@ -6,7 +6,9 @@
 #include "mesh.h"
 #include "vk_resources.h"
 
-#define MESH_CACHE_SLOTS 4
+#define MESH_CACHE_SLOTS 16
+/* What the cached meshes may hold (GPU buffers plus the CPU copy) unless the renderer is told. */
+#define MESH_CACHE_DEFAULT_BYTES (512ull << 20)
 /* The projection and shadow passes draw a simplified proxy when the mesh has more triangles than
  * a projection image can use: irradiance and depth are smooth, so about 8 texels per triangle
  * (side^2 / 8 triangles, at least PROXY_MIN_TRIANGLES) loses little, and those passes cost per
@@ -37,16 +39,21 @@ struct gpu_mesh {
 struct mesh_cache {
     struct gpu_mesh slots[MESH_CACHE_SLOTS];
     uint64_t clock;
+    uint64_t budget;   /* bytes; least recently used meshes go first */
 };
 
 enum { PROXY_FRONT = 0, PROXY_SIDES = 1 };
 
-/* Finds or loads (imports and uploads, load_ms) the mesh a scene names. */
+void mesh_cache_init(struct mesh_cache *cache, uint64_t budget_bytes);
+/* Bytes the cached meshes hold (GPU buffers and CPU copies). */
+uint64_t mesh_cache_bytes(const struct mesh_cache *cache);
+/* Finds or loads (imports and uploads, load_ms) the mesh a scene names. Older meshes are evicted to
+ * keep within the budget; a mesh that alone exceeds it is refused with LUCENT_E_LIMIT. */
 lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, const lucent_mesh_ref *ref,
                              struct gpu_mesh **out, double *load_ms, lucent_error *err);
 /* Builds the proxies the front and side image sizes call for, unless already there. */
-lucent_status mesh_cache_proxies(struct vk_context *ctx, struct gpu_mesh *m, int projection_size, int side_size,
-                                 lucent_error *err);
+lucent_status mesh_cache_proxies(struct vk_context *ctx, struct mesh_cache *cache, struct gpu_mesh *m,
+                                 int projection_size, int side_size, lucent_error *err);
 /* What a pass drawing for PROXY_FRONT or PROXY_SIDES draws: the proxy, or the full mesh. */
 const struct gpu_geometry *gpu_mesh_geometry(const struct gpu_mesh *m, int which);
 void mesh_cache_destroy(struct vk_context *ctx, struct mesh_cache *cache);

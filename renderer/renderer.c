@@ -40,6 +40,7 @@ lucent_renderer *lucent_renderer_create(const lucent_renderer_desc *desc, lucent
         return NULL;
     }
     r->verbose = desc ? desc->verbose : 0;
+    mesh_cache_init(&r->meshes, desc && desc->mesh_cache_bytes ? desc->mesh_cache_bytes : MESH_CACHE_DEFAULT_BYTES);
     if ((st = vk_context_create(&r->ctx, desc ? desc->device_name : NULL, r->verbose, err)) != LUCENT_OK) {
         free(r);
         return NULL;
@@ -289,7 +290,7 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
         s = &chosen->scene;
     }
     double t_proxies = now_ms();
-    if ((st = mesh_cache_proxies(&r->ctx, gm, s->projection_size, frame_side_projection_size(s), err)))
+    if ((st = mesh_cache_proxies(&r->ctx, &r->meshes, gm, s->projection_size, frame_side_projection_size(s), err)))
         return st;
     stats->ms_mesh_load += now_ms() - t_proxies;
     int proxied = gm->proxies[PROXY_FRONT].triangles || gm->proxies[PROXY_SIDES].triangles;
@@ -307,6 +308,7 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
         return st;
     stats->ms_readback = now_ms() - t1;
     stats->ms_total = now_ms() - t0;
+    stats->mesh_cache_bytes = mesh_cache_bytes(&r->meshes);
     describe(scene, s, chosen, plan, gm, stats);
     return LUCENT_OK;
 }
@@ -320,9 +322,11 @@ int lucent_stats_json(const lucent_stats *s, char *buf, size_t cap)
 {
     int n = snprintf(buf, cap,
                      "{\"device\":\"%s\",\"triangles\":%u,\"proxy_triangles\":%u,\"shadow_maps\":%d,\"views\":%d,"
+                     "\"mesh_cache_bytes\":%llu,"
                      "\"ms\":{\"mesh_load\":%.3f,\"shadow\":%.3f,\"projection\":%.3f,\"gbuffer\":%.3f,"
                      "\"scatter\":%.3f,\"readback\":%.3f,\"total\":%.3f},\"modelled\":%s}",
-                     s->device, s->triangles, s->proxy_triangles, s->shadow_maps, s->views, s->ms_mesh_load,
+                     s->device, s->triangles, s->proxy_triangles, s->shadow_maps, s->views,
+                     (unsigned long long)s->mesh_cache_bytes, s->ms_mesh_load,
                      s->ms_shadow, s->ms_projection, s->ms_gbuffer, s->ms_scatter, s->ms_readback, s->ms_total,
                      s->modelled[0] ? s->modelled : "{}");
     return n < 0 || (size_t)n >= cap ? -1 : n;

@@ -50,6 +50,8 @@ static const struct option_def options[] = {
     {"import-wall", NUM(OPT_INT, import_wall_s), "60", 1, 86400, "wall-clock seconds of one import"},
     {"max-imports", NUM(OPT_INT, max_imports), "2", 1, 64, "mesh uploads imported at once; more get 503"},
     {"cache-bytes", NUM(OPT_U64, cache_bytes), "268435456", 0, 1e13, "encoded images kept in memory (0: no cache)"},
+    {"mesh-cache-bytes", NUM(OPT_U64, mesh_cache_bytes), "536870912", 1 << 20, 1e13,
+     "meshes kept loaded in the renderer (GPU buffers and CPU copies); a larger mesh gets 413"},
     {"log-level", NUM(OPT_LOG, log_level), "info", 0, 0, "error, warn, info (one line per request) or debug"},
     {"cors-origins", STR(cors_origins), "", 0, 0, "comma-separated origins allowed by CORS, or *; empty: none"},
     {"token-file", STR(token_file), "", 0, 0, "file holding a bearer token required on all but /healthz and /readyz"},

@@ -30,6 +30,7 @@ struct config {
     int import_wall_s;
     int max_imports;              /* uploads imported at once; more get 503 */
     uint64_t cache_bytes;         /* encoded images kept in memory; 0 disables the cache */
+    uint64_t mesh_cache_bytes;    /* meshes kept loaded in the renderer */
     enum log_level log_level;
     char cors_origins[1024];      /* comma-separated exact origins, or "*"; empty: no CORS headers */
     char token_file[512];         /* bearer token required when set */

@@ -130,7 +130,8 @@ int main(int argc, char **argv)
         goto done;
     }
     double t0 = monotonic_seconds();
-    srv.queue = render_queue_create(srv.cfg.queue_length, srv.cfg.device, srv.metrics, srv.cache, &err);
+    srv.queue = render_queue_create(srv.cfg.queue_length, srv.cfg.device, srv.cfg.mesh_cache_bytes, srv.metrics,
+                                    srv.cache, &err);
     if (!srv.queue)
         goto fail;
     uint16_t port = 0;

@@ -26,6 +26,7 @@ struct render_queue {
     lucent_error start_err;
     char device[256];
     char device_request[128];
+    uint64_t mesh_cache_bytes;
     uint64_t max_pixels;        /* the renderer's largest image */
     struct metrics *metrics;
     struct image_cache *cache;
@@ -152,7 +153,8 @@ static void *worker(void *arg)
 {
     struct render_queue *q = arg;
     lucent_error err = {0};
-    lucent_renderer_desc desc = {.device_name = q->device_request[0] ? q->device_request : NULL, .verbose = 0};
+    lucent_renderer_desc desc = {.device_name = q->device_request[0] ? q->device_request : NULL, .verbose = 0,
+                                 .mesh_cache_bytes = q->mesh_cache_bytes};
     lucent_renderer *r = lucent_renderer_create(&desc, &err);
     int ok = r && warm_up(q, r, &err) == 0;
     pthread_mutex_lock(&q->lock);
@@ -183,7 +185,8 @@ static void *worker(void *arg)
     return NULL;
 }
 
-struct render_queue *render_queue_create(int capacity, const char *device_name, struct metrics *metrics,
+struct render_queue *render_queue_create(int capacity, const char *device_name, uint64_t mesh_cache_bytes,
+                                         struct metrics *metrics,
                                          struct image_cache *cache, lucent_error *err)
 {
     struct render_queue *q = calloc(1, sizeof *q);
@@ -194,6 +197,7 @@ struct render_queue *render_queue_create(int capacity, const char *device_name, 
     pthread_mutex_init(&q->lock, NULL);
     pthread_cond_init(&q->wake, NULL);
     q->capacity = capacity;
+    q->mesh_cache_bytes = mesh_cache_bytes;
     q->metrics = metrics;
     q->cache = cache;
     snprintf(q->device_request, sizeof q->device_request, "%s", device_name ? device_name : "");

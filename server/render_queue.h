@@ -36,7 +36,8 @@ struct render_queue;
 
 /* Starts the worker, which creates the renderer and warms it with one small frame.
  * device_name may be NULL or "" (automatic). */
-struct render_queue *render_queue_create(int capacity, const char *device_name, struct metrics *metrics,
+struct render_queue *render_queue_create(int capacity, const char *device_name, uint64_t mesh_cache_bytes,
+                                         struct metrics *metrics,
                                          struct image_cache *cache, lucent_error *err);
 /* Blocks until the renderer is warm (0: device and the largest image in pixels filled in) or failed to
  * start (-1, err). */

@@ -303,8 +303,10 @@ stop "$A_pid"; rc=$?
 check "A: SIGTERM -> exit 0 ($rc)" [ "$rc" = 0 ]
 
 # ---- A again on the same store: the uploaded mesh survived; the image cache is on ----
-start A2 --store-dir "$store"
+start A2 --store-dir "$store" --mesh-cache-bytes 4194304
 A=$base
+c=$(req "$work/e" GET "$A/v1/render?mesh=sphere&mesh_triangles=400000&w=32&h=32")
+check "413 mesh larger than the renderer's mesh cache ($c): $(json_field "$work/e" '["detail"]' | cut -c1-70)" problem "$work/e" 413 mesh
 c=$(req "$work/mi2" GET "$A/v1/meshes/$cube_id")
 check "restart keeps the uploaded mesh ($c)" [ "$c" = 200 ]
 c=$(req "$work/cube2.png" GET "$A/v1/render?mesh=$cube_id&w=64&h=64&light_dir=-1,-0.5,-1&$fast")

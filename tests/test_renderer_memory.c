@@ -4,6 +4,7 @@
 
 #include <malloc.h>
 #include <stdio.h>
+#include <string.h>
 #include <unistd.h>
 
 /* Resident memory after returning free heap pages, so allocator caching does not pass for a leak. */
@@ -43,8 +44,49 @@ static double run_renderer(int round, double *end_rss)
     return *end_rss - warm;
 }
 
+/* The mesh cache keeps within its byte budget by evicting the least recently used meshes, and refuses
+ * a mesh that alone does not fit (a daemon sets the budget; uploads can be large). */
+static void check_mesh_budget(void)
+{
+    static const char *const meshes[] = {"sphere", "torus", "protrusion"};
+    const uint64_t budget = 4u << 20;
+    lucent_renderer_desc desc = {.mesh_cache_bytes = budget};
+    lucent_renderer *r = lucent_renderer_create(&desc, NULL);
+    uint64_t peak = 0;
+    int rendered = 0;
+    for (int i = 0; i < 12; i++) {
+        char json[200];
+        snprintf(json, sizeof json, "{\"mesh\":{\"builtin\":\"%s\",\"triangles\":%d},\"width\":32,\"height\":32,"
+                 "\"projection_size\":64}", meshes[i % 3], 20000 + 10000 * (i / 3));
+        lucent_image img;
+        lucent_stats stats;
+        test_render(r, json, &img, &stats);
+        lucent_image_free(&img);
+        peak = stats.mesh_cache_bytes > peak ? stats.mesh_cache_bytes : peak;
+        rendered++;
+    }
+    test_check(peak <= budget, "%d meshes of 20k-50k triangles through a %.1f MiB mesh cache: at most %.2f MiB held",
+               rendered, budget / 1048576.0, peak / 1048576.0);
+    const char *big = "{\"mesh\":{\"builtin\":\"sphere\",\"triangles\":400000},\"width\":32,\"height\":32}";
+    lucent_scene scene;
+    lucent_scene_parse(big, strlen(big), 0, &scene, NULL);
+    lucent_image img = {0};
+    lucent_error err = {0};
+    lucent_status st = lucent_render(r, &scene, &img, NULL, &err);
+    lucent_image_free(&img);
+    test_check(st == LUCENT_E_LIMIT && strcmp(err.field, "mesh") == 0, "a 400k-triangle mesh is refused: [%s] %s",
+               err.field, err.message);
+    lucent_stats stats;
+    test_render(r, "{\"mesh\":{\"builtin\":\"torus\"},\"width\":32,\"height\":32}", &img, &stats);
+    lucent_image_free(&img);
+    test_check(stats.mesh_cache_bytes <= budget, "the renderer goes on afterwards (%.2f MiB held)",
+               stats.mesh_cache_bytes / 1048576.0);
+    lucent_renderer_destroy(r);
+}
+
 int main(void)
 {
+    check_mesh_budget();
     double end[3], growth[3];
     for (int i = 0; i < 3; i++) {
         growth[i] = run_renderer(i + 1, &end[i]);
