@@ -22,6 +22,7 @@ packages=(
   libssl-dev
   gnuplot-nox
   nodejs
+  chromium
 )
 
 export DEBIAN_FRONTEND=noninteractive
@@ -33,6 +34,8 @@ command -v npm >/dev/null || "${sudo_cmd[@]}" apt-get install -y -q --no-install
 
 # The Stanford bunny ships in the npm package "bunny" (positions + cells in
 # index.js); tests convert it to OBJ at build time, it is never committed.
-if [[ ! -f "$top/tests/data/node_modules/bunny/index.js" ]]; then
+# playwright-core (no bundled browser) drives Debian's chromium in tests/test_web.js.
+if [[ ! -f "$top/tests/data/node_modules/bunny/index.js" ||
+      ! -f "$top/tests/data/node_modules/playwright-core/package.json" ]]; then
   (cd "$top/tests/data" && npm install --no-package-lock --no-audit --no-fund --silent)
 fi

@@ -54,7 +54,7 @@ static const struct option_def options[] = {
      "meshes kept loaded in the renderer (GPU buffers and CPU copies); a larger mesh gets 413"},
     {"log-level", NUM(OPT_LOG, log_level), "info", 0, 0, "error, warn, info (one line per request) or debug"},
     {"cors-origins", STR(cors_origins), "", 0, 0, "comma-separated origins allowed by CORS, or *; empty: none"},
-    {"token-file", STR(token_file), "", 0, 0, "file holding a bearer token required on all but /healthz and /readyz"},
+    {"token-file", STR(token_file), "", 0, 0, "file holding a bearer token required on all but /healthz, /readyz and the web page"},
     {"device", STR(device), "", 0, 0, "Vulkan device name substring (else $LUCENT_DEVICE, else automatic)"},
 };
 #define OPTION_COUNT (sizeof options / sizeof options[0])

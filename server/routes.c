@@ -24,6 +24,40 @@
 extern const unsigned char lucentd_openapi_json[];
 extern const size_t lucentd_openapi_json_len;
 
+/* ---- static files: the web preview page (issue 5), client/web/ embedded by server/CMakeLists.txt ---- */
+#define WEB_FILE(name) extern const unsigned char lucentd_web_##name[]; extern const size_t lucentd_web_##name##_len;
+WEB_FILE(index_html)
+WEB_FILE(app_js)
+WEB_FILE(style_css)
+WEB_FILE(lucent_js)
+WEB_FILE(embed_example_html)
+#undef WEB_FILE
+
+struct static_file {
+    const char *path;
+    const char *content_type;
+    const unsigned char *bytes;
+    const size_t *len;
+};
+
+static const struct static_file static_files[] = {
+    {"/", "text/html; charset=utf-8", lucentd_web_index_html, &lucentd_web_index_html_len},
+    {"/app.js", "text/javascript; charset=utf-8", lucentd_web_app_js, &lucentd_web_app_js_len},
+    {"/style.css", "text/css; charset=utf-8", lucentd_web_style_css, &lucentd_web_style_css_len},
+    {"/lucent.js", "text/javascript; charset=utf-8", lucentd_web_lucent_js, &lucentd_web_lucent_js_len},
+    {"/embed-example.html", "text/html; charset=utf-8", lucentd_web_embed_example_html,
+     &lucentd_web_embed_example_html_len},
+};
+
+static const struct static_file *static_file_find(const char *path)
+{
+    for (size_t i = 0; i < sizeof static_files / sizeof static_files[0]; i++)
+        if (strcmp(path, static_files[i].path) == 0)
+            return &static_files[i];
+    return NULL;
+}
+/* ---- end of static files' table ---- */
+
 static enum MHD_Result handle_render(struct request *req);
 static enum MHD_Result handle_materials(struct request *req);
 static enum MHD_Result handle_healthz(struct request *req);
@@ -32,6 +66,7 @@ static enum MHD_Result handle_metrics(struct request *req);
 static enum MHD_Result handle_openapi(struct request *req);
 static enum MHD_Result handle_upload(struct request *req);
 static enum MHD_Result handle_mesh(struct request *req);
+static enum MHD_Result handle_static(struct request *req);
 
 static const struct route routes[] = {
     {"render", "/v1/render", 0, M_GET | M_HEAD | M_POST, 0, handle_render},
@@ -42,11 +77,13 @@ static const struct route routes[] = {
     {"openapi", "/openapi.json", 0, M_GET | M_HEAD, 0, handle_openapi},
     {"meshes", "/v1/meshes", 0, M_POST, 0, handle_upload},
     {"mesh", "/v1/meshes/", 1, M_GET | M_HEAD | M_DELETE, 0, handle_mesh},
+    /* Matches every path of static_files[]; open: the page holds no secret and asks for the token itself. */
+    {"static", "/", 0, M_GET | M_HEAD, 1, handle_static},
 };
 #define ROUTE_COUNT ((int)(sizeof routes / sizeof routes[0]))
 
 const char *const route_labels[] = {"render",  "materials", "healthz", "readyz",
-                                    "metrics", "openapi",   "meshes",  "mesh", "unmatched"};
+                                    "metrics", "openapi",   "meshes",  "mesh", "static", "unmatched"};
 const int route_label_count = ROUTE_COUNT + 1;
 _Static_assert(sizeof route_labels / sizeof route_labels[0] == sizeof routes / sizeof routes[0] + 1,
                "one metrics label per route, plus unmatched");
@@ -55,8 +92,9 @@ const struct route *route_match(const char *path, int *index)
 {
     for (int i = 0; i < ROUTE_COUNT; i++) {
         size_t n = strlen(routes[i].path);
-        int hit = routes[i].prefix ? strncmp(path, routes[i].path, n) == 0 && path[n] && !strchr(path + n, '/')
-                                   : strcmp(path, routes[i].path) == 0;
+        int hit = routes[i].handler == handle_static ? static_file_find(path) != NULL
+                  : routes[i].prefix ? strncmp(path, routes[i].path, n) == 0 && path[n] && !strchr(path + n, '/')
+                                     : strcmp(path, routes[i].path) == 0;
         if (hit) {
             *index = i;
             return &routes[i];
@@ -533,4 +571,40 @@ static enum MHD_Result handle_mesh(struct request *req)
     if (mesh_store_get(srv->store, id, &info, path, sizeof path, &err) != LUCENT_OK)
         return http_send_error(req, &err);
     return send_json(req, MHD_HTTP_OK, mesh_json(id, &info), NULL, NULL);
+}
+
+/* ---- static files: the web preview page (issue 5) ---- */
+
+/* FNV-1a 64 of the bytes: they are fixed at build time, so the tag changes only with a new build. */
+static void static_etag(const struct static_file *f, char out[17])
+{
+    uint64_t h = 0xcbf29ce484222325u;
+    for (size_t i = 0; i < *f->len; i++)
+        h = (h ^ f->bytes[i]) * 0x100000001b3u;
+    snprintf(out, 17, "%016llx", (unsigned long long)h);
+}
+
+static enum MHD_Result handle_static(struct request *req)
+{
+    const struct static_file *f = static_file_find(req->path);
+    char etag[17], quoted[20];
+    static_etag(f, etag);
+    snprintf(quoted, sizeof quoted, "\"%s\"", etag);
+    int fresh = etag_matches(http_header(req, MHD_HTTP_HEADER_IF_NONE_MATCH), etag);
+    struct MHD_Response *resp = fresh ? MHD_create_response_from_buffer(0, NULL, MHD_RESPMEM_PERSISTENT)
+                                      : MHD_create_response_from_buffer(*f->len, (void *)f->bytes, MHD_RESPMEM_PERSISTENT);
+    if (!resp)
+        return MHD_NO;
+    MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, f->content_type);
+    MHD_add_response_header(resp, MHD_HTTP_HEADER_ETAG, quoted);
+    /* Revalidated on every load (a 304 while this build runs), so an upgraded daemon serves its own page. */
+    MHD_add_response_header(resp, MHD_HTTP_HEADER_CACHE_CONTROL, "no-cache");
+    MHD_add_response_header(resp, "X-Content-Type-Options", "nosniff");
+    if (strncmp(f->content_type, "text/html", 9) == 0)
+        MHD_add_response_header(resp, "Content-Security-Policy",
+                                "default-src 'self'; img-src 'self' blob:; connect-src 'self' blob:; object-src 'none'; "
+                                "base-uri 'none'; "
+                                "frame-ancestors 'none'");
+    req->bytes_out = fresh ? 0 : *f->len;
+    return http_send(req, fresh ? MHD_HTTP_NOT_MODIFIED : MHD_HTTP_OK, resp);
 }
