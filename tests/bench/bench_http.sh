@@ -34,15 +34,14 @@ start() {
 
 url() { echo "$base/v1/render?mesh=protrusion&preset=skin1&light_dir=-1,0,0&light_intensity=3&w=$1&h=$1&format=png"; }
 
-# server_ms SIZE: median render, encode and render + encode (ms) the server reports over 9 requests, each
-# with a different exposure so none is served from the cache.
+# server_ms FROM_LINE: medians of render, encode and render + encode (ms) over the renders the access log
+# recorded after line FROM_LINE: the server's own account of the requests wrk just timed.
 server_ms() {
-    local i lines
-    lines=$(for i in $(seq 1 9); do
-        curl -s -o /dev/null -D - "$(url "$1")&exposure=0.00$i" | tr -d '\r' | grep -i '^server-timing:' |
-            sed -E 's/.*render;dur=([0-9.]+).*encode;dur=([0-9.]+).*/\1 \2/'
-    done)
-    median() { awk "{print $1}" <<<"$lines" | sort -n | sed -n 5p; }
+    local pairs
+    pairs=$(tail -n +"$(( $1 + 1 ))" "$work/lucentd.log" | grep 'GET /v1/render status=200' |
+        sed -E 's/.*render_ms=([0-9.]+) encode_ms=([0-9.]+).*/\1 \2/')
+    [[ -z $pairs ]] && { echo "- - -"; return; }
+    median() { awk "{ print $1 }" <<<"$pairs" | sort -g | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
     echo "$(median '$1') $(median '$2') $(median '$1 + $2')"
 }
 
@@ -66,9 +65,9 @@ load() {
 {
     echo "## lucentd under wrk ($(date -u +%F), ${seconds} s per run, loopback, $(nproc) cores)"
     echo
-    echo "Render + encode is the server's own median (Server-Timing over 9 uncached requests); overhead is"
-    echo "the request p50 at 1 connection over it. With more connections requests queue behind the one"
-    echo "render worker, so their latency grows with the queue while throughput stays at one render at a time."
+    echo "Render and encode are the server's own medians for the requests of that run (its access log); overhead"
+    echo "is the request p50 at 1 connection over render + encode. With more connections requests queue behind"
+    echo "the one render worker, so latency grows with the queue while throughput stays at one render at a time."
     echo
     echo "| size | cache | connections | req/s | p50 ms | p99 ms | non-2xx | render ms | encode ms | overhead p50 |"
     echo "|---|---|---|---|---|---|---|---|---|---|"
@@ -77,10 +76,11 @@ load() {
 for cache in off hit; do
     start "$([[ $cache == off ]] && echo 0 || echo 268435456)"
     for size in 256 512; do
-        read -r render encode both < <(server_ms "$size")
-        curl -s -o /dev/null "$(url "$size")"   # warms the cache for "hit"
+        curl -s -o /dev/null "$(url "$size")"   # compiles this size's pipelines; warms the cache for "hit"
         for c in 1 4 16; do
+            from=$(wc -l <"$work/lucentd.log")
             read -r rps p50 p99 errors < <(load "$size" "$c")
+            read -r render encode both < <(server_ms "$from")
             overhead=-
             [[ $c == 1 && $cache == off ]] && overhead=$(awk -v a="$p50" -v b="$both" 'BEGIN { printf "%.2fx", a / b }')
             echo "| $size | $cache | $c | $rps | $p50 | $p99 | $errors | $render | $encode | $overhead |" >>"$out"
