@@ -14,32 +14,9 @@ cleanup() {
     rm -rf "$work"
 }
 trap cleanup EXIT
-passed=0
-failed=0
 unset LUCENT_SERVER LUCENT_TOKEN_FILE
 
-ok() { passed=$((passed + 1)); echo "ok   $1"; }
-bad() { failed=$((failed + 1)); echo "FAIL $1"; }
-check() { local name=$1; shift; if "$@"; then ok "$name"; else bad "$name"; fi; }
-
-# start NAME ARGS...: lucentd on a free port, ready; sets $base and $log (as tests/test_lucentd.sh does).
-start() {
-    local name=$1; shift
-    log=$work/$name.log
-    "$lucentd" --port 0 --log-level info "$@" 2>"$log" &
-    pids+=("$!")
-    base=
-    for _ in $(seq 1 300); do
-        base=$(grep -o 'listening on http://127.0.0.1:[0-9]*' "$log" | head -1 | sed 's/listening on //')
-        if [[ -n $base ]] && [[ $(curl -s -o /dev/null -w '%{http_code}' "$base/readyz") == 200 ]]; then
-            echo "started $name at $base"
-            return 0
-        fi
-        sleep 0.1
-    done
-    echo "lucentd $name did not become ready:"; cat "$log"
-    exit 1
-}
+source "$(dirname "$0")/lucentd_harness.sh"
 
 # run ARGS...: the client with stdout to $work/out and stderr to $work/err; sets $rc and echoes both briefly.
 run() {
@@ -49,46 +26,6 @@ run() {
 }
 # expect CODE PATTERN: the last run's exit code, and PATTERN (grep -E) on its stderr.
 expect() { [[ $rc == "$1" ]] && grep -qE -- "$2" "$work/err"; }
-
-# png FILE W H: a valid 8-bit RGBA PNG of that size with lit pixels and coverage (decoded here).
-png() {
-    python3 - "$@" <<'PY'
-import struct, sys, zlib
-path, w, h = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-data = open(path, "rb").read()
-if data[:8] != b"\x89PNG\r\n\x1a\n":
-    print("     not a PNG"); sys.exit(1)
-pos, idat, hdr = 8, b"", None
-while pos < len(data):
-    n, kind = struct.unpack(">I4s", data[pos:pos + 8])
-    body = data[pos + 8:pos + 8 + n]
-    if kind == b"IHDR": hdr = struct.unpack(">IIBBBBB", body)
-    elif kind == b"IDAT": idat += body
-    pos += 12 + n
-if not hdr or hdr[:4] != (w, h, 8, 6):
-    print("     header %s, expected %dx%d 8-bit RGBA" % (hdr, w, h)); sys.exit(1)
-raw, stride, prev, rows = zlib.decompress(idat), w * 4, bytearray(w * 4), []
-for y in range(h):
-    f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-    for i in range(stride):
-        a = line[i - 4] if i >= 4 else 0
-        b, c = prev[i], prev[i - 4] if i >= 4 else 0
-        if f == 1: line[i] = (line[i] + a) & 255
-        elif f == 2: line[i] = (line[i] + b) & 255
-        elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
-        elif f == 4:
-            p = a + b - c
-            pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-            line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-    rows.append(line)
-    prev = line
-px = b"".join(rows)
-rgb_max = max(max(px[0::4]), max(px[1::4]), max(px[2::4]))
-alpha_mean = sum(px[3::4]) / (w * h)
-print("     %s: %dx%d PNG, max RGB %d, mean alpha %.1f" % (path.rsplit("/", 1)[-1], w, h, rgb_max, alpha_mean))
-sys.exit(0 if rgb_max > 0 and alpha_mean > 0 else 1)
-PY
-}
 
 # exr FILE W H: oiiotool decodes a float image of that size with the AOV channels and lit RGB.
 exr() {
@@ -128,7 +65,7 @@ sys.exit(0 if len(m) == 12 and abs(m["marble"]["eta"] - 1.5) < 1e-9 else 1)' "$w
 
 # Builtin mesh to PNG, EXR and standard output.
 run render --mesh protrusion --preset marble "${fast[@]}" --size 96x80 -o "$work/a.png"
-check "render builtin to PNG: exit 0, decoded 96x80" eval '[ $rc = 0 ] && png "$work/a.png" 96 80'
+check "render builtin to PNG: exit 0, decoded 96x80" eval '[ $rc = 0 ] && pngs "$work/a.png:96:80"'
 run render --mesh protrusion --preset marble "${fast[@]}" --size 96x80 -o "$work/a.exr"
 check "render builtin to EXR (format from the extension): float 96x80 with AOVs" eval '[ $rc = 0 ] && exr "$work/a.exr" 96 80'
 run render --mesh torus --preset skimmilk "${fast[@]}" --width 64 --height 72 --format exr -o -
@@ -145,7 +82,7 @@ check "-v prints the request id" grep -qE '^lucent: POST /v1/render -> 200 in [0
 before=$(posts "$A_log")
 run -v render --mesh "$bunny" --preset marble "${fast[@]}" --size 64x64 -o "$work/bunny1.png"
 first=$(( $(posts "$A_log") - before ))
-check "local OBJ (bunny) rendered: 64x64 PNG, uploaded $first time(s)" eval '[ $rc = 0 ] && [ $first = 1 ] && png "$work/bunny1.png" 64 64'
+check "local OBJ (bunny) rendered: 64x64 PNG, uploaded $first time(s)" eval '[ $rc = 0 ] && [ $first = 1 ] && pngs "$work/bunny1.png:64:64"'
 run -v render --mesh "$bunny" --preset marble "${fast[@]}" --size 64x64 -o "$work/bunny2.png"
 second=$(( $(posts "$A_log") - before - first ))
 check "second render of the same file: $second more uploads, GET found it, same image" \
@@ -163,7 +100,7 @@ run meshes show "$cube"
 check "meshes show FILE: the same mesh by its sha256" eval '[ $rc = 0 ] && grep -q "$cube_id" "$work/out"'
 before=$(posts "$A_log")
 run render --mesh "$cube" --preset marble "${fast[@]}" --size 64x64 -o "$work/cube.png"
-check "render of an already uploaded file: no upload" eval '[ $rc = 0 ] && [ $(posts "$A_log") = $before ] && png "$work/cube.png" 64 64'
+check "render of an already uploaded file: no upload" eval '[ $rc = 0 ] && [ $(posts "$A_log") = $before ] && pngs "$work/cube.png:64:64"'
 run render --mesh "$cube_id" --preset marble "${fast[@]}" --size 64x64 -o "$work/cube_by_id.png"
 check "render --mesh ID: the same image as by file" eval '[ $rc = 0 ] && cmp -s "$work/cube.png" "$work/cube_by_id.png"'
 stored=$(curl -s -o /dev/null -w "%{http_code}" "$A/v1/meshes/$cube_id")
@@ -174,7 +111,7 @@ run meshes show "$cube_id"
 check "meshes show after delete: exit 1, 404 naming mesh.id" expect 1 '^lucent: 404 .*mesh'
 run render --mesh "$cube" --preset marble "${fast[@]}" --size 64x64 -o "$work/cube2.png"
 check "render after delete uploads again ($(( $(posts "$A_log") - before )) upload)" \
-    eval '[ $rc = 0 ] && [ $(( $(posts "$A_log") - before )) = 1 ] && png "$work/cube2.png" 64 64'
+    eval '[ $rc = 0 ] && [ $(( $(posts "$A_log") - before )) = 1 ] && pngs "$work/cube2.png:64:64"'
 
 # --scene with overrides: the result equals the same scene given by flags alone.
 cat >"$work/scene.json" <<JSON
@@ -182,18 +119,18 @@ cat >"$work/scene.json" <<JSON
  "width": 64, "height": 64, "projection_size": 128, "format": "exr"}
 JSON
 run render --scene "$work/scene.json" -o "$work/scene_only.png"
-check "--scene alone: 64x64 (PNG from -o's extension over the file's format)" eval '[ $rc = 0 ] && png "$work/scene_only.png" 64 64'
+check "--scene alone: 64x64 (PNG from -o's extension over the file's format)" eval '[ $rc = 0 ] && pngs "$work/scene_only.png:64:64"'
 run render --scene "$work/scene.json" --sigma-a 0.01,0.02,0.03 --sigma-s-prime 1,1.5,2 --light-dir -1,0,0 --size 80x72 -o "$work/scene_over.png"
 run_over=$rc
 run render --mesh protrusion --sigma-a 0.01,0.02,0.03 --sigma-s-prime 1,1.5,2 --light-dir -1,0,0 --size 80x72 --projection-size 128 -o "$work/flags.png"
 check "--scene with overrides (coefficients replace the preset, lights replaced, size): same bytes as flags alone" \
-    eval '[ $run_over = 0 ] && [ $rc = 0 ] && png "$work/scene_over.png" 80 72 && cmp -s "$work/scene_over.png" "$work/flags.png"'
+    eval '[ $run_over = 0 ] && [ $rc = 0 ] && pngs "$work/scene_over.png:80:72" && cmp -s "$work/scene_over.png" "$work/flags.png"'
 run render --scene "$work/scene.json" --light-intensity 8 -o "$work/brighter.png"
 check "--light-intensity without a new light changes the scene's light (image differs)" \
-    eval '[ $rc = 0 ] && png "$work/brighter.png" 64 64 && ! cmp -s "$work/brighter.png" "$work/scene_only.png"'
+    eval '[ $rc = 0 ] && pngs "$work/brighter.png:64:64" && ! cmp -s "$work/brighter.png" "$work/scene_only.png"'
 printf '{"mesh": {"file": "%s"}, "width": 64, "height": 64, "projection_size": 128}' "$cube" >"$work/scene_file.json"
 run render --scene "$work/scene_file.json" -o "$work/scene_file.png"
-check "--scene with mesh.file uploads and renders it" eval '[ $rc = 0 ] && png "$work/scene_file.png" 64 64'
+check "--scene with mesh.file uploads and renders it" eval '[ $rc = 0 ] && pngs "$work/scene_file.png:64:64"'
 
 # Errors: exit codes and messages; no output file on failure.
 run render --bogus -o "$work/x.png"
@@ -243,7 +180,7 @@ check "wrong token: exit 1, 401" expect 1 '^lucent: 401 '
 run --token-file "$work/token" materials
 check "--token-file: exit 0, the 12 presets" eval '[ $rc = 0 ] && [ $(grep -cE "^[a-z0-9]+ +[0-9]" "$work/out") = 12 ]' 
 LUCENT_TOKEN_FILE=$work/token run render --mesh "$cube" "${fast[@]}" --size 64x64 -o "$work/token.png"
-check "LUCENT_TOKEN_FILE: upload and render with the token" eval '[ $rc = 0 ] && png "$work/token.png" 64 64'
+check "LUCENT_TOKEN_FILE: upload and render with the token" eval '[ $rc = 0 ] && pngs "$work/token.png:64:64"'
 run render --token-file "$work/absent" --mesh sphere -o "$work/x.png"
 check "missing token file: exit 4" expect 4 'token-file: cannot open'
 
