@@ -72,44 +72,69 @@ struct extreme {
     const char *fields;
     double irradiance;   /* largest irradiance any surface can receive; < 0: unbounded (light inside) */
     double allowance;    /* 0: NOISE_ALLOWANCE */
-    double max_rel_l2;   /* the fast methods' bound against a converged reference */
+    /* rel L2 against the converged reference measured when the case was written, for five, single
+     * (per channel) and auto; the bound is ERROR_MARGIN times it. NAN: not compared. */
+    double measured[3];
+    int empty;           /* the object is below a pixel: nothing may be covered */
     int mesh;            /* 0: as in fields; else 1 + enum sphere_variant, written to a file */
     double mesh_radius, mesh_offset;
     int side;            /* image side; 0: 48 */
 };
 
+/* Renders are deterministic, so the margin only has to absorb another device's rounding and
+ * rasterization; a black image (rel L2 exactly 1) fails every bound, the largest being 0.90. */
+#define ERROR_MARGIN 1.5
 #define SIDE_LIGHT "\"lights\":[{\"direction\":[-1,-0.3,-0.5]}]"
-/* Bounds on rel L2 against the reference were set at about twice the worst method measured (README). */
+#define SPHERE_CASE(variant, radius, offset, e5, e1, ea) \
+    {.fields = SIDE_LIGHT, .irradiance = 1.0, .measured = {e5, e1, ea}, .mesh = 1 + (variant), \
+     .mesh_radius = (radius), .mesh_offset = (offset)}
 static const struct extreme cases[] = {
-    {"\"material\":{\"preset\":\"spectralon\"}", 1.0, 0, 0.1, 0, 0, 0, 0},
-    {"\"material\":{\"sigma_a\":[0,0,0],\"sigma_s_prime\":[1e-6,1e-6,1e-6],\"eta\":1.0}", 1.0, 0, 1.5, 0, 0, 0, 0},
-    {"\"material\":{\"sigma_a\":[1e5,1e5,1e5],\"sigma_s_prime\":[1e-6,1e-6,1e-6]}", 1.0, 0, 0.1, 0, 0, 0, 0},
-    {"\"material\":{\"sigma_a\":[0.01,0.01,0.01],\"sigma_s_prime\":[1e4,1e4,1e4],\"eta\":3.0}", 1.0, 0, 0.1, 0, 0, 0, 0},
-    {"\"material\":{\"sigma_a\":[1e-4,1,1e4],\"sigma_s_prime\":[1e-4,1,1e4],\"eta\":1.0001}", 1.0, 0, 0.3, 0, 0, 0, 0},
-    {"\"scale_mm\":1e-6,\"material\":{\"preset\":\"ketchup\"}", 1.0, 0, 1.5, 0, 0, 0, 0},
-    {"\"scale_mm\":1e9,\"material\":{\"preset\":\"cream\"}", 1.0, 0, 0.1, 0, 0, 0, 0},
-    {"\"lights\":[{\"direction\":[-1,0,0],\"intensity\":1e12}]", 1e12, 0, 0.15, 0, 0, 0, 0},
-    {"\"lights\":[{\"direction\":[0,0,-1],\"intensity\":1e-6,\"color\":[1e-6,0,1e6]}]", 1.0, 0, 0.1, 0, 0, 0, 0},
-    {"\"lights\":[{\"direction\":[-1,0,0.02]}]", 1.0, 0, 0.15, 0, 0, 0, 0},   /* grazing on the camera-facing side */
-    {"\"lights\":[{\"type\":\"point\",\"position\":[0,0,0]},{\"type\":\"point\",\"position\":[1e6,0,0],"
-     "\"intensity\":1e12},{\"direction\":[1,-1,0]},{\"direction\":[0,1e-300,-1]}]", -1.0, 0, 0.1, 0, 0, 0, 0},
+    {.fields = "\"material\":{\"preset\":\"spectralon\"}", .irradiance = 1.0, .measured = {0.0248, 0.0248, 0.0217}},
+    /* radiance ~1e-10: the fast methods' error is large on these tiny values, but not black's 1.0 */
+    {.fields = "\"material\":{\"sigma_a\":[0,0,0],\"sigma_s_prime\":[1e-6,1e-6,1e-6],\"eta\":1.0}", .irradiance = 1.0,
+     .measured = {0.517, 0.476, 0.421}},
+    {.fields = "\"material\":{\"sigma_a\":[1e5,1e5,1e5],\"sigma_s_prime\":[1e-6,1e-6,1e-6]}", .irradiance = 1.0,
+     .measured = {0.0257, 0.025, 0.0177}},
+    {.fields = "\"material\":{\"sigma_a\":[0.01,0.01,0.01],\"sigma_s_prime\":[1e4,1e4,1e4],\"eta\":3.0}",
+     .irradiance = 1.0, .measured = {0.0265, 0.0265, 0.0176}},
+    {.fields = "\"material\":{\"sigma_a\":[1e-4,1,1e4],\"sigma_s_prime\":[1e-4,1,1e4],\"eta\":1.0001}",
+     .irradiance = 1.0, .measured = {0.101, 0.0246, 0.024}},
+    {.fields = "\"scale_mm\":1e-6,\"material\":{\"preset\":\"ketchup\"}", .irradiance = 1.0,
+     .measured = {0.514, 0.486, 0.406}},
+    {.fields = "\"scale_mm\":1e9,\"material\":{\"preset\":\"cream\"}", .irradiance = 1.0,
+     .measured = {0.0262, 0.0242, 0.0177}},
+    {.fields = "\"lights\":[{\"direction\":[-1,0,0],\"intensity\":1e12}]", .irradiance = 1e12,
+     .measured = {0.0451, 0.0445, 0.0296}},
+    {.fields = "\"lights\":[{\"direction\":[0,0,-1],\"intensity\":1e-6,\"color\":[1e-6,0,1e6]}]", .irradiance = 1.0,
+     .measured = {0.013, 0.0168, 0.00853}},
+    /* grazing on the camera-facing side */
+    {.fields = "\"lights\":[{\"direction\":[-1,0,0.02]}]", .irradiance = 1.0, .measured = {0.046, 0.0455, 0.0301}},
+    {.fields = "\"lights\":[{\"type\":\"point\",\"position\":[0,0,0]},{\"type\":\"point\",\"position\":[1e6,0,0],"
+               "\"intensity\":1e12},{\"direction\":[1,-1,0]},{\"direction\":[0,1e-300,-1]}]",
+     .irradiance = -1.0, .measured = {0.0221, 0.0221, 0.0155}},
     /* inside, the fast methods shade the inner faces and the reference does not: not compared */
-    {"\"camera\":{\"position\":[0,0,0.1],\"target\":[0,0,-1]}", 1.0, 0, INFINITY, 0, 0, 0, 0},
-    {"\"camera\":{\"position\":[0,0,1e6],\"target\":[0,0,0],\"fov_deg\":1.0001}", 1.0, 0, 0.1, 0, 0, 0, 0},
-    {"\"single_scattering\":true,\"material\":{\"preset\":\"marble\",\"g\":0.95}," SIDE_LIGHT, 1.0, 0, 0.15, 0, 0, 0, 0},
+    {.fields = "\"camera\":{\"position\":[0,0,0.1],\"target\":[0,0,-1]}", .irradiance = 1.0,
+     .measured = {NAN, NAN, NAN}},
+    {.fields = "\"camera\":{\"position\":[0,0,1e6],\"target\":[0,0,0],\"fov_deg\":1.0001}", .irradiance = 1.0,
+     .measured = {0, 0, 0}, .empty = 1},
+    {.fields = "\"single_scattering\":true,\"material\":{\"preset\":\"marble\",\"g\":0.95}," SIDE_LIGHT,
+     .irradiance = 1.0, .measured = {0.0314, 0.0303, 0.0206}},
     /* back-scattering lobe: single scattering retro-reflects up to p_HG(-0.95, -1) = 62/sr, far
      * above a diffuse surface's 1/pi; the bound is that lobe's (x Ft^2 / 2 at normal incidence) */
-    {"\"single_scattering\":true,\"material\":{\"preset\":\"skin1\",\"g\":-0.95},"
-     "\"lights\":[{\"direction\":[0,0,-1]}]", 1.0, 100.0, 0.3, 0, 0, 0, 0},
-    {SIDE_LIGHT, 1.0, 0, 0.15, 1 + SPHERE_PLAIN, 1e-6, 0.0, 0},       /* coordinates around 1e-6 */
-    {SIDE_LIGHT, 1.0, 0, 0.15, 1 + SPHERE_PLAIN, 1.0, 1e6, 0},        /* coordinates around 1e6 */
-    {SIDE_LIGHT, 1.0, 0, 0.15, 1 + SPHERE_BROKEN, 1.0, 0.0, 0},       /* degenerate and duplicate faces */
-    {SIDE_LIGHT, 1.0, 0, 0.3, 1 + SPHERE_OPEN, 1.0, 0.0, 0},          /* open: half a sphere */
-    {SIDE_LIGHT, 1.0, 0, 0.15, 1 + SPHERE_INSIDE_OUT, 1.0, 0.0, 0},   /* every face wound inward */
-    {SIDE_LIGHT, 1.0, 0, 0.15, 1 + SPHERE_FLIPPED_NORMALS, 1.0, 0.0, 0},
-    {SIDE_LIGHT, 1.0, 0, 0.15, 0, 0, 0, 1},   /* one pixel, whose centre ray once slipped through the BVH */
-    {"\"mesh\":{\"builtin\":\"torus\",\"triangles\":1000},\"samples\":1,\"projection_size\":16", 1.0,
-     ONE_SAMPLE_ALLOWANCE, 1.0, 0, 0, 0, 0},
+    {.fields = "\"single_scattering\":true,\"material\":{\"preset\":\"skin1\",\"g\":-0.95},"
+               "\"lights\":[{\"direction\":[0,0,-1]}]",
+     .irradiance = 1.0, .allowance = 100.0, .measured = {0.0159, 0.0159, 0.0159}},
+    SPHERE_CASE(SPHERE_PLAIN, 1e-6, 0.0, 0.0368, 0.0376, 0.0285),         /* coordinates around 1e-6 */
+    SPHERE_CASE(SPHERE_PLAIN, 1.0, 1e6, 0.0442, 0.0453, 0.036),           /* coordinates around 1e6 */
+    SPHERE_CASE(SPHERE_BROKEN, 1.0, 0.0, 0.0368, 0.0376, 0.0285),         /* degenerate and duplicate faces */
+    SPHERE_CASE(SPHERE_OPEN, 1.0, 0.0, 0.0385, 0.040, 0.0293), /* open: half a sphere */
+    SPHERE_CASE(SPHERE_INSIDE_OUT, 1.0, 0.0, 0.0368, 0.0376, 0.0285),     /* every face wound inward */
+    SPHERE_CASE(SPHERE_FLIPPED_NORMALS, 1.0, 0.0, 0.0368, 0.0376, 0.0285),
+    /* one pixel, whose centre ray once slipped through the BVH */
+    {.fields = SIDE_LIGHT, .irradiance = 1.0, .measured = {0.0491, 0.0372, 0.0296}, .side = 1},
+    /* method auto chooses its own samples: not run */
+    {.fields = "\"mesh\":{\"builtin\":\"torus\",\"triangles\":1000},\"samples\":1,\"projection_size\":16",
+     .irradiance = 1.0, .allowance = ONE_SAMPLE_ALLOWANCE, .measured = {0.592, 0.601, NAN}},
 };
 #define CASES (sizeof cases / sizeof cases[0])
 
@@ -150,12 +175,13 @@ static void render_case(lucent_renderer *r, const struct extreme *c, const char 
         unlink(mesh);
 }
 
-/* The reference's own estimate of its error, from the report in stats->modelled. */
+/* The reference's own estimate of its error, from the report in stats->modelled; NAN when the report
+ * lacks it (a renamed key must fail the comparison, not skip it). */
 static double reference_error(const lucent_stats *stats)
 {
     const char *at = strstr(stats->modelled, "\"estimated_rel_error\":");
-    double e = 1.0;
-    return at && sscanf(at + strlen("\"estimated_rel_error\":"), "%lf", &e) == 1 ? e : 1.0;
+    double e = NAN;
+    return at && sscanf(at + strlen("\"estimated_rel_error\":"), "%lf", &e) == 1 ? e : NAN;
 }
 
 static const char *const mesh_names[] = {"", "sphere", "broken sphere", "open sphere", "inside-out sphere",
@@ -169,41 +195,60 @@ static void describe_case(const struct extreme *c, char *buf, size_t cap)
         snprintf(buf, cap, "%.44s%s", c->fields, c->side ? " 1x1" : "");
 }
 
+/* The fast image covers what the reference covers: rasterization and ray casting may disagree on
+ * a few silhouette pixels (1% and one pixel allowed); nothing is covered where the case is empty. */
+static int coverage_agrees(const struct extreme *c, int covered, int ref_covered)
+{
+    if (c->empty)
+        return covered == 0 && ref_covered == 0;
+    return ref_covered > 0 && abs(covered - ref_covered) <= 1 + ref_covered / 100;
+}
+
 static void check_case(lucent_renderer *r, const struct extreme *c)
 {
     static const char *const modes[] = {"\"method\":\"reference\"", "\"method\":\"five\"",
                                         "\"method\":\"single\",\"sampling\":\"per_channel\"", "\"method\":\"auto\""};
     lucent_image ref;
-    double ref_error = 1.0;
+    int ref_covered = 0;
+    int compared = isfinite(c->measured[0]);
     char what[64];
     describe_case(c, what, sizeof what);
     for (int m = 0; m < 4; m++) {
-        if (m == 3 && strstr(c->fields, "samples"))
+        if (m > 0 && isnan(c->measured[m - 1]) && compared)
             continue;   /* method auto chooses the samples itself */
         lucent_image img;
         lucent_stats stats;
         render_case(r, c, modes[m], m == 0 ? &ref : &img, &stats);
-        if (m == 0)
-            ref_error = reference_error(&stats);
-        int trusted = ref_error <= REFERENCE_TRUSTED && isfinite(c->max_rel_l2);
         const lucent_image *shown = m == 0 ? &ref : &img;
         struct scan s = scan_image(shown);
         double bound = c->irradiance / PI * (c->allowance > 0.0 ? c->allowance : NOISE_ALLOWANCE);
-        /* An unconverged reference is reported, not judged (the integrator's known limit). */
-        int bounded = c->irradiance < 0.0 || s.peak <= bound || (m == 0 && !trusted);
-        lucent_image_error e = {0};
-        if (m > 0 && trusted)
+        int bounded = c->irradiance < 0.0 || s.peak <= bound;
+        char versus[128], peak_bound[24] = "none";
+        int ok;
+        if (c->irradiance >= 0.0)
+            snprintf(peak_bound, sizeof peak_bound, "%.3g", bound);
+        if (m == 0) {
+            double ref_error = reference_error(&stats);
+            ref_covered = s.covered;
+            /* Every compared case needs a ground truth: an unconverged (or unreported) one fails. */
+            int trusted = ref_error <= REFERENCE_TRUSTED;
+            ok = !compared || (trusted && coverage_agrees(c, s.covered, s.covered));
+            snprintf(versus, sizeof versus, "its estimated error %.3g (%s %.2g)%s", ref_error,
+                     trusted ? "within" : "NOT within", REFERENCE_TRUSTED, compared ? "" : ", not compared");
+        } else if (compared) {
+            lucent_image_error e = {0};
+            double max_rel_l2 = ERROR_MARGIN * c->measured[m - 1];
             lucent_image_compare(&img, &ref, &e, NULL);
-        int accurate = m == 0 || !trusted || e.object.rel_l2 <= c->max_rel_l2;
-        char versus[80];
-        if (m == 0)
-            snprintf(versus, sizeof versus, "its estimated error %.3g%s", ref_error, trusted ? "" : " (not compared)");
-        else if (trusted)
-            snprintf(versus, sizeof versus, "rel L2 vs reference %.3g (bound %.3g)", e.object.rel_l2, c->max_rel_l2);
-        else
-            snprintf(versus, sizeof versus, "no converged reference");
-        test_check(s.bad == 0 && bounded && accurate, "{%s} %-34.34s: %d bad, %d covered, peak %.3g (bound %s%.3g), %s",
-                   what, modes[m], s.bad, s.covered, s.peak, c->irradiance < 0.0 ? "none, " : "", bound, versus);
+            ok = coverage_agrees(c, s.covered, ref_covered) && (c->empty ? e.object.pixels == 0 : e.object.pixels > 0) &&
+                 e.object.rel_l2 <= max_rel_l2;
+            snprintf(versus, sizeof versus, "rel L2 vs reference %.3g over %d px (measured %.3g, bound %.3g)",
+                     e.object.rel_l2, e.object.pixels, c->measured[m - 1], max_rel_l2);
+        } else {
+            ok = 1;
+            snprintf(versus, sizeof versus, "not compared");
+        }
+        test_check(s.bad == 0 && bounded && ok, "{%s} %-34.34s: %d bad, %d covered (reference %d), peak %.3g (bound %s), %s",
+                   what, modes[m], s.bad, s.covered, ref_covered, s.peak, peak_bound, versus);
         if (m > 0)
             lucent_image_free(&img);
     }
@@ -246,6 +291,9 @@ static void coverage_and_mean(const lucent_image *img, double *share, double *me
  * covered and how bright it is on average (the reference is not run at millions of pixels). The
  * parser allows 4096^2; a device whose storage-buffer range is smaller refuses it naming that limit,
  * and renders the largest square it allows. */
+/* Measured at 2896^2: covered shares 0.0016 apart (the 64x64 silhouette is coarse), means 0.12%. */
+#define MAX_IMAGE_SHARE_TOL 0.003
+#define MAX_IMAGE_MEAN_TOL 0.0025
 static void check_max_image(lucent_renderer *r)
 {
     static const char scene[] = "{\"mesh\":{\"builtin\":\"protrusion\"}," SIDE_LIGHT ",\"width\":%d,\"height\":%d}";
@@ -277,10 +325,11 @@ static void check_max_image(lucent_renderer *r)
     coverage_and_mean(&big, &share_big, &mean_big);
     coverage_and_mean(&small, &share_small, &mean_small);
     double mean_diff = fabs(mean_big - mean_small) / mean_small;
-    test_check(s.bad == 0 && s.peak <= NOISE_ALLOWANCE / PI && fabs(share_big - share_small) < 0.02 && mean_diff < 0.05,
-               "%dx%d five (the largest this device takes): %d bad, peak %.3g, covered %.4f vs %.4f at 64x64, mean "
-               "radiance %.4g vs %.4g (%.2g apart, tol 0.05), %.0f ms", side, side, s.bad, s.peak, share_big,
-               share_small, mean_big, mean_small, mean_diff, stats.ms_total);
+    test_check(s.bad == 0 && s.peak <= NOISE_ALLOWANCE / PI && fabs(share_big - share_small) < MAX_IMAGE_SHARE_TOL &&
+                   mean_diff < MAX_IMAGE_MEAN_TOL,
+               "%dx%d five (the largest this device takes): %d bad, peak %.3g, covered %.4f vs %.4f at 64x64 (tol %.3g), mean "
+               "radiance %.4g vs %.4g (%.2g apart, tol %.2g), %.0f ms", side, side, s.bad, s.peak, share_big,
+               share_small, MAX_IMAGE_SHARE_TOL, mean_big, mean_small, mean_diff, MAX_IMAGE_MEAN_TOL, stats.ms_total);
     lucent_image_free(&big);
     lucent_image_free(&small);
 }
