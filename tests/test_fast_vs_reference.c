@@ -1,50 +1,101 @@
-/* test_fast_vs_reference.c - the image-space methods scored against method "reference" on small
- * images: the error measures are printed, and a loose bound catches a method that goes wrong. */
+/* test_fast_vs_reference.c - the image-space methods scored against method "reference" on small images:
+ * every error measure bounded at its measured value times a margin, and the paper's claim checked:
+ * under a side light, five projection images beat one in the silhouette band. */
 #include "test_support.h"
 
+#include <math.h>
 #include <stdio.h>
+#include <string.h>
 
-/* Relative L2 over the object. Measured when this test was written: 0.02-0.09, but 0.18-0.19 for
- * ketchup with shared sampling (its channels' kernels differ tenfold; 16 shared samples cover red
- * thinly). A regression guard, not the accuracy claim: that is the trade benchmark's. */
-#define BOUND 0.25
+/* Renders are deterministic; the margins absorb another device's rounding and rasterization. The
+ * relative measures are dominated by the dimly lit far side, so their share gets an absolute margin. */
+#define ERROR_MARGIN 1.5
+#define SHARE_MARGIN 0.1
 
-static void score(lucent_renderer *r, const char *mesh, const char *light, const char *material)
+enum { MODES = 3 };
+static const char *const modes[MODES] = {"\"method\":\"single\"", "\"method\":\"five\"",
+                                         "\"method\":\"five\",\"sampling\":\"per_channel\""};
+
+struct measures {
+    double rel_l2, band_rel_l2, p99_rel, share_over_10pct;
+};
+
+struct scored_case {
+    const char *mesh, *light, *material;
+    int side;
+    struct measures measured[MODES];   /* when written, per mode */
+    int claim;                         /* five's band error must be below single's */
+};
+
+static const struct scored_case cases[] = {
+    {"sphere", "[0,0,-1]", "skin1", 64,
+     {{0.0347, 0.0731, 0.138, 0.05}, {0.0331, 0.0559, 0.115, 0.02}, {0.0167, 0.0271, 0.052, 0.00}}, 0},
+    {"sphere", "[-1,0,0]", "marble", 64,
+     {{0.0462, 0.0527, 1.860, 0.61}, {0.0409, 0.0312, 1.707, 0.61}, {0.0373, 0.0295, 2.016, 0.61}}, 1},
+    {"protrusion", "[-1,0,0]", "marble", 64,
+     {{0.0628, 0.0671, 3.733, 0.59}, {0.0604, 0.0614, 3.043, 0.59}, {0.0556, 0.0474, 2.762, 0.60}}, 1},
+    /* ketchup's kernels differ tenfold: 16 shared samples cover red thinly, and five views gain nothing */
+    {"protrusion", "[-1,0,0]", "ketchup", 64,
+     {{0.1812, 0.1981, 3.985, 0.77}, {0.1906, 0.1982, 3.325, 0.73}, {0.0889, 0.0789, 1.855, 0.57}}, 0},
+    {NULL, "[-1,0,0]", "marble", 96,   /* the Stanford bunny, from argv[1] */
+     {{0.170, 0.2416, 4.176, 0.76}, {0.146, 0.1694, 4.102, 0.74}, {0.137, 0.1128, 4.074, 0.77}}, 1},
+};
+
+static int within(const char *name, double got, double bound, char *buf, size_t cap)
 {
-    char base[600], json[800];
+    size_t n = strlen(buf);
+    snprintf(buf + n, cap - n, " %s %.4g (bound %.4g)", name, got, bound);
+    return got <= bound;
+}
+
+static void score(lucent_renderer *r, const struct scored_case *c, const char *mesh)
+{
+    char base[900], json[1000];
     snprintf(base, sizeof base,
-             "\"mesh\":{\"builtin\":\"%s\"},\"material\":{\"preset\":\"%s\"},\"lights\":[{\"direction\":%s,"
-             "\"intensity\":3}],\"width\":64,\"height\":64,\"format\":\"exr\"",
-             mesh, material, light);
+             "\"mesh\":{\"%s\":\"%s\"},\"material\":{\"preset\":\"%s\"},\"lights\":[{\"direction\":%s,"
+             "\"intensity\":3}],\"width\":%d,\"height\":%d,\"format\":\"exr\"",
+             c->mesh ? "builtin" : "file", mesh, c->material, c->light, c->side, c->side);
     snprintf(json, sizeof json, "{%s,\"method\":\"reference\"}", base);
     lucent_image ref;
     test_render(r, json, &ref, NULL);
-    const char *modes[] = {"\"method\":\"single\"", "\"method\":\"five\"",
-                           "\"method\":\"five\",\"sampling\":\"per_channel\""};
-    for (int m = 0; m < 3; m++) {
+    double band[MODES] = {0};
+    const char *name = c->mesh ? c->mesh : "bunny";
+    for (int m = 0; m < MODES; m++) {
         snprintf(json, sizeof json, "{%s,%s}", base, modes[m]);
         lucent_image img;
         lucent_image_error e;
         lucent_error err = {0};
         test_render(r, json, &img, NULL);
         lucent_status st = lucent_image_compare(&img, &ref, &e, &err);
-        test_check(st == LUCENT_OK && e.object.rel_l2 < BOUND && e.coverage_mismatch <= e.object.pixels / 50,
-                   "%-10s %-8s light %-9s {%s}: rel L2 %.4f (band %.4f over %d px), p99 rel %.3f, "
-                   ">10%% %.2f, coverage mismatch %d",
-                   mesh, material, light, modes[m], e.object.rel_l2, e.band.rel_l2, e.band.pixels, e.object.p99_rel,
-                   e.object.share_over_10pct, e.coverage_mismatch);
+        const struct measures *w = &c->measured[m];
+        char line[400] = "";
+        int ok = st == LUCENT_OK && e.object.pixels > 0 && e.band.pixels > 0 &&
+                 e.coverage_mismatch <= e.object.pixels / 50;
+        ok &= within("rel L2", e.object.rel_l2, ERROR_MARGIN * w->rel_l2, line, sizeof line);
+        ok &= within("band rel L2", e.band.rel_l2, ERROR_MARGIN * w->band_rel_l2, line, sizeof line);
+        ok &= within("p99 rel", e.object.p99_rel, ERROR_MARGIN * w->p99_rel, line, sizeof line);
+        ok &= within(">10%", e.object.share_over_10pct, w->share_over_10pct + SHARE_MARGIN, line, sizeof line);
+        test_check(ok, "%-10s %-7s light %-8s {%s}:%s; band %d px, coverage mismatch %d", name, c->material,
+                   c->light, modes[m], line, e.band.pixels, e.coverage_mismatch);
+        band[m] = e.band.rel_l2;
         lucent_image_free(&img);
     }
+    if (c->claim)
+        test_check(band[1] < band[0], "%s %s light %s: five views beat one in the silhouette band, rel L2 %.4f vs "
+                                      "%.4f (ratio %.2f)", name, c->material, c->light, band[1], band[0],
+                   band[1] / band[0]);
     lucent_image_free(&ref);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
+    if (argc != 2) {
+        fprintf(stderr, "usage: %s BUNNY.obj\n", argv[0]);
+        return 2;
+    }
     lucent_renderer *r = test_renderer();
-    score(r, "sphere", "[0,0,-1]", "skin1");
-    score(r, "sphere", "[-1,0,0]", "marble");
-    score(r, "protrusion", "[-1,0,0]", "marble");
-    score(r, "protrusion", "[-1,0,0]", "ketchup");
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
+        score(r, &cases[i], cases[i].mesh ? cases[i].mesh : argv[1]);
     lucent_renderer_destroy(r);
     return test_finish();
 }
