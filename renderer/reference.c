@@ -91,12 +91,18 @@ struct job {
     atomic_size_t next;
 };
 
+static int cancelled(const struct context *ctx)
+{
+    return ctx->cancel && atomic_load(ctx->cancel);
+}
+
+/* A cancelled render stops within a chunk of every parallel phase (1024 points, one row). */
 static void *job_worker(void *arg)
 {
     struct job *job = arg;
     for (;;) {
         size_t begin = atomic_fetch_add(&job->next, job->chunk);
-        if (begin >= job->count)
+        if (begin >= job->count || cancelled(job->ctx))
             return NULL;
         size_t end = begin + job->chunk < job->count ? begin + job->chunk : job->count;
         job->fn(job->ctx, begin, end);
@@ -474,14 +480,9 @@ static void shade_pixel(struct context *ctx, int x, int y)
     img->facing[i] = (float)facing;
 }
 
-static int cancelled(const struct context *ctx)
-{
-    return ctx->cancel && atomic_load(ctx->cancel);
-}
-
 static void shade_rows(struct context *ctx, size_t begin, size_t end)
 {
-    for (size_t y = begin; y < end && !cancelled(ctx); y++)
+    for (size_t y = begin; y < end; y++)
         for (int x = 0; x < ctx->out->width; x++)
             shade_pixel(ctx, x, (int)y);
 }
@@ -591,14 +592,14 @@ lucent_status reference_render(const lucent_scene *scene, const struct lucent_me
     ctx.point_area_mm2 = ctx.total_area / (double)ctx.point_count * scale_mm * scale_mm;
     ctx.near_radius = NEAR_SPACINGS * sqrt(ctx.total_area / (double)ctx.point_count);
     run_parallel(&ctx, threads, ctx.point_count, 1024, make_points);
+    if (cancelled(&ctx))
+        goto cancel;
     if (!ctx.brute_force && (st = build_point_tree(&ctx, err)) != LUCENT_OK)
         goto fail;
     double t1 = now_ms();
     run_parallel(&ctx, threads, (size_t)out->height, 1, shade_rows);
-    if (cancelled(&ctx)) {
-        st = lucent_fail(err, LUCENT_E_CANCELLED, "", "the reference render was cancelled");
-        goto fail;
-    }
+    if (cancelled(&ctx))
+        goto cancel;
     double area_mm2 = ctx.total_area * scale_mm * scale_mm;
     report->points = (uint32_t)ctx.point_count;
     report->point_spacing_mm = sqrt(area_mm2 / (double)ctx.point_count);
@@ -610,6 +611,8 @@ lucent_status reference_render(const lucent_scene *scene, const struct lucent_me
     report->ms_pixels = now_ms() - t1;
     free_context(&ctx);
     return LUCENT_OK;
+cancel:
+    st = lucent_fail(err, LUCENT_E_CANCELLED, "", "the reference render was cancelled");
 fail:
     free_context(&ctx);
     lucent_image_free(out);

@@ -55,7 +55,8 @@ static void fixture_render(const struct fixture *f, const struct reference_optio
 
 /* (a) A 200 mm square lit head-on is a half-space for every kernel here (marble red, the widest,
  * falls by e^-12 at its edge): the centre must be E Rd_total Ft(1)^2 / pi. The points' spacing is a
- * fraction of z_r = 1 mfp so the quadrature of R_d's peak is good to well under the 2% allowed. */
+ * fraction of z_r = 1 mfp so the quadrature of R_d's peak is good to 0.16% (measured, skin1 red). */
+#define SQUARE_TOL 3e-3
 static void check_square(const char *square, const char *preset, uint32_t points)
 {
     char json[1400];
@@ -75,9 +76,9 @@ static void check_square(const char *square, const char *preset, uint32_t points
         dipole_init(&d, m->sigma_a[c], m->sigma_s_prime[c], m->eta);
         double ft = fresnel_transmittance(m->eta, 1.0);
         double want = dipole_rd_total(&d) * ft * ft / PI, rel = fabs(centre[c] - want) / want;
-        test_check(rel < 0.02, "square %-7s ch%d: centre %.6g, analytic %.6g, rel.err %.2e (tol 2e-2; "
+        test_check(rel < SQUARE_TOL, "square %-7s ch%d: centre %.6g, analytic %.6g, rel.err %.2e (tol %.0e; "
                                "%u points, spacing %.3f mm, z_r %.3f mm, estimated %.1e, %.0f + %.0f ms)",
-                   preset, c, centre[c], want, rel, rep.points, rep.point_spacing_mm, d.z_r,
+                   preset, c, centre[c], want, rel, SQUARE_TOL, rep.points, rep.point_spacing_mm, d.z_r,
                    rep.estimated_rel_error, rep.ms_points, rep.ms_pixels);
     }
     lucent_image_free(&img);
@@ -101,6 +102,8 @@ static double rel_l2(const lucent_image *a, const lucent_image *b)
 }
 
 /* (b) The hierarchical sum (default threshold) against every point summed, with the same points. */
+/* Measured: 0.036-0.12% (the README's "within 0.12%"). */
+#define HIERARCHY_TOL 2e-3
 static void check_hierarchy(const char *mesh, const char *preset, int side, uint32_t points, double tolerance)
 {
     char json[600];
@@ -210,34 +213,53 @@ static double seconds_now(void)
     return ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-static void *cancel_soon(void *renderer)
+struct canceller {
+    lucent_renderer *renderer;
+    long delay_ms;
+    double cancelled_at;
+};
+
+static void *cancel_later(void *arg)
 {
-    nanosleep(&(struct timespec){0, 200 * 1000 * 1000}, NULL);
-    lucent_render_cancel(renderer);
+    struct canceller *c = arg;
+    nanosleep(&(struct timespec){c->delay_ms / 1000, c->delay_ms % 1000 * 1000000L}, NULL);
+    c->cancelled_at = seconds_now();
+    lucent_render_cancel(c->renderer);
     return NULL;
 }
 
-/* A daemon cancels a reference render nobody waits for any more: it must stop within a row. */
+/* Every phase of the reference is cancellable within a chunk (1024 points or one row): cancelled
+ * while it places points (0.2 s in) and while it shades rows (1.5 s in), a 512x512 render that
+ * takes ~10 s returns CANCELLED. The time from the cancel to the return is printed; its bound is
+ * generous because the machine is shared (measured: 0.004 and 0.11 s). */
+#define CANCEL_LATENCY_BOUND 3.0
 static void check_cancel(void)
 {
     lucent_renderer *r = test_renderer();
     const char *json = "{\"mesh\":{\"builtin\":\"sphere\"},\"width\":512,\"height\":512,\"method\":\"reference\"}";
     lucent_scene scene;
     lucent_scene_parse(json, strlen(json), 0, &scene, NULL);
+    const long delays_ms[] = {200, 1500};
+    for (int i = 0; i < 2; i++) {
+        lucent_image img = {0};
+        lucent_error err = {0};
+        lucent_stats stats;
+        pthread_t thread;
+        struct canceller c = {.renderer = r, .delay_ms = delays_ms[i]};
+        pthread_create(&thread, NULL, cancel_later, &c);
+        lucent_status st = lucent_render(r, &scene, &img, &stats, &err);
+        double returned = seconds_now();
+        pthread_join(thread, NULL);
+        double latency = returned - c.cancelled_at;
+        test_check(st == LUCENT_E_CANCELLED && latency < CANCEL_LATENCY_BOUND,
+                   "512x512 reference cancelled after %.1f s: status %s, returned %.3f s after the cancel (bound %.0f s): %s",
+                   delays_ms[i] / 1000.0, lucent_status_name(st), latency, CANCEL_LATENCY_BOUND, err.message);
+        lucent_image_free(&img);
+    }
     lucent_image img = {0};
     lucent_error err = {0};
-    pthread_t thread;
-    double t0 = seconds_now();
-    pthread_create(&thread, NULL, cancel_soon, r);
-    lucent_status st = lucent_render(r, &scene, &img, NULL, &err);
-    double elapsed = seconds_now() - t0;
-    pthread_join(thread, NULL);
-    test_check(st == LUCENT_E_CANCELLED && elapsed < 2.0,
-               "512x512 reference cancelled after 0.2 s: status %s, returned after %.2f s (tol 2 s): %s",
-               lucent_status_name(st), elapsed, err.message);
-    lucent_image_free(&img);
     scene.width = scene.height = 32;
-    st = lucent_render(r, &scene, &img, NULL, &err);
+    lucent_status st = lucent_render(r, &scene, &img, NULL, &err);
     test_check(st == LUCENT_OK, "the next render is not cancelled: status %s", lucent_status_name(st));
     lucent_image_free(&img);
     lucent_renderer_destroy(r);
@@ -251,7 +273,7 @@ int main(void)
     const char *meshes[] = {"sphere", "protrusion"}, *presets[] = {"marble", "ketchup"};
     for (int m = 0; m < 2; m++)
         for (int p = 0; p < 2; p++)
-            check_hierarchy(meshes[m], presets[p], 32, 30000, 1e-2);
+            check_hierarchy(meshes[m], presets[p], 32, 30000, HIERARCHY_TOL);
     check_determinism();
     check_extreme("{\"preset\":\"spectralon\"}");
     check_extreme("{\"sigma_a\":[0.0021,0.0041,0.0071],\"sigma_s_prime\":[2.19,2.62,3.0],\"eta\":1}");
