@@ -1,8 +1,8 @@
 /* test_render_analytic.c - a flat square far larger than the scattering kernel, lit head-on: the centre
  * must equal E * Rd_total * Ft_in * Ft_out / pi (Jensen's S with unpolarized Fresnel); so must a
- * sphere scaled far beyond its kernel. Per-channel
- * sampling is exact on a plane (every sample weighs R_trunc); shared sampling is a quadrature of
- * R_d,c / p_mix over the mixture's strata, allowed 1%. */
+ * sphere scaled far beyond its kernel. Per-channel sampling is exact on a plane (every sample weighs
+ * R_trunc); shared sampling is a quadrature of R_d,c / p_mix over the mixture's strata. Each tolerance
+ * is about twice the worst error measured (in the comment beside it). */
 #include "dipole.h"
 #include "test_support.h"
 
@@ -13,6 +13,12 @@
 #include <unistd.h>
 
 #define PI 3.14159265358979323846
+#define PLANE_EXACT_TOL 1.5e-5   /* per channel: 8.5e-6 (fp32 tables and truncation) */
+#define PLANE_SHARED_TOL 1e-2    /* shared: 6.4e-3 (cream red) */
+#define LIMIT_EXACT_TOL 6e-4     /* the diffuse limit, per channel or one fetch: 3.3e-4 */
+#define LIMIT_SHARED_TOL 1e-2    /* the diffuse limit, shared: 5.8e-3 */
+#define SINGLE_FAST_TOL 1e-4     /* single scattering, closed form on the GPU: 4.5e-5 */
+#define SINGLE_REFERENCE_TOL 4e-3  /* single scattering, ray-marched reference: 1.9e-3 */
 
 static double expected_radiance(const lucent_material *m, int c, double irradiance)
 {
@@ -39,7 +45,7 @@ static void check_case(lucent_renderer *r, const char *square, const char *prese
                        const char *sampling, double intensity)
 {
     int exact = strcmp(sampling, "per_channel") == 0;
-    double tolerance = exact ? 1e-4 : 1e-2;
+    double tolerance = exact ? PLANE_EXACT_TOL : PLANE_SHARED_TOL;
     char json[1400];
     /* 200 mm square: the widest kernel here (marble red, 1/sigma_tr = 8.5 mm) loses < 1e-4 past it. */
     snprintf(json, sizeof json,
@@ -57,7 +63,7 @@ static void check_case(lucent_renderer *r, const char *square, const char *prese
     for (int c = 0; c < 3; c++) {
         double want = expected_radiance(&m, c, intensity);
         double rel = fabs(got[c] - want) / want;
-        test_check(rel < tolerance, "%-6s %-11s %-9s E=%-6g ch%d: centre %.6g, analytic %.6g, rel.err %.2e (tol %.0e)",
+        test_check(rel < tolerance, "%-6s %-11s %-9s E=%-6g ch%d: centre %.6g, analytic %.6g, rel.err %.2e (tol %.2g)",
                    method, sampling, preset, intensity, c, got[c], want, rel, tolerance);
     }
     lucent_image_free(&img);
@@ -85,11 +91,12 @@ static void check_diffuse_limit(lucent_renderer *r, double scale_mm, const char 
     centre_radiance(&img, got);
     int as_asked = sampling ? stats.proxy_triangles > 0
                             : strstr(stats.modelled, "\"subsurface\":\"diffuse limit") != NULL;
+    double tolerance = sampling && strcmp(sampling, "shared") == 0 ? LIMIT_SHARED_TOL : LIMIT_EXACT_TOL;
     for (int c = 0; c < 3; c++) {
         double want = expected_radiance(&m, c, 1.0), rel = fabs(got[c] - want) / want;
-        test_check(rel < 0.02 && as_asked,
-                   "sphere at %g mm/unit, %-11s ch%d: centre %.6g, diffuse limit %.6g, rel.err %.2e (tol 2e-2)%s",
-                   scale_mm, sampling ? sampling : "auto", c, got[c], want, rel,
+        test_check(rel < tolerance && as_asked,
+                   "sphere at %g mm/unit, %-11s ch%d: centre %.6g, diffuse limit %.6g, rel.err %.2e (tol %.0e)%s",
+                   scale_mm, sampling ? sampling : "auto", c, got[c], want, rel, tolerance,
                    sampling ? "" : as_asked ? ", auto chose the diffuse limit" : ", auto did NOT choose the diffuse limit");
     }
     lucent_image_free(&img);
@@ -98,7 +105,7 @@ static void check_diffuse_limit(lucent_renderer *r, double scale_mm, const char 
 /* Light at 36.9 degrees, camera head-on, g = 0.5: with single scattering on, the centre is the
  * multiple-scattering plane value plus Jensen 2001's flat-surface single-scattering term
  * a p_HG(g, mu) Ft(cos_i) Ft(1) E cos_i / (cos'_i + 1). The fast methods evaluate that closed form;
- * the reference marches the refracted view ray and casts rays to the light (2% for its quadrature
+ * the reference marches the refracted view ray and casts rays to the light (its quadrature
  * and point sum). */
 static void check_single_scattering(lucent_renderer *r, const char *square, const char *method, double tolerance)
 {
@@ -146,11 +153,11 @@ int main(void)
     for (int i = 0; i < 3; i++) {
         check_diffuse_limit(r, scales[i], "shared");
         check_diffuse_limit(r, scales[i], "per_channel");
+        check_diffuse_limit(r, scales[i], NULL);
     }
-    check_diffuse_limit(r, 1e6, NULL);
-    check_single_scattering(r, square, "five", 2e-3);
-    check_single_scattering(r, square, "single", 2e-3);
-    check_single_scattering(r, square, "reference", 2e-2);
+    check_single_scattering(r, square, "five", SINGLE_FAST_TOL);
+    check_single_scattering(r, square, "single", SINGLE_FAST_TOL);
+    check_single_scattering(r, square, "reference", SINGLE_REFERENCE_TOL);
     lucent_renderer_destroy(r);
     unlink(square);
     return test_finish();
