@@ -56,16 +56,20 @@ void test_render(lucent_renderer *r, const char *json, lucent_image *out, lucent
         die("render", &err);
 }
 
-const char *test_write_square_obj(void)
+void test_write_obj(char *path, size_t cap, const char *name, const char *text)
 {
-    static char path[64];
-    snprintf(path, sizeof path, "/tmp/lucent-square-%d.obj", (int)getpid());
+    snprintf(path, cap, "/tmp/lucent-%s-%d.obj", name, (int)getpid());
     FILE *f = fopen(path, "w");
-    if (!f) {
+    if (!f || fputs(text, f) < 0 || fclose(f) != 0) {
         perror(path);
         exit(1);
     }
-    fputs("v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\nf 1//1 3//1 4//1\n", f);
-    fclose(f);
+}
+
+const char *test_write_square_obj(void)
+{
+    static char path[64];
+    test_write_obj(path, sizeof path, "square",
+                   "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\nf 1//1 3//1 4//1\n");
     return path;
 }

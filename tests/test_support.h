@@ -5,6 +5,8 @@
 
 #include "lucent.h"
 
+#include <stddef.h>
+
 extern int test_passed, test_failed;
 
 /* Prints "ok"/"FAIL" with the description and counts it. Returns ok. */
@@ -20,6 +22,8 @@ int test_finish(void);
 void test_render(lucent_renderer *r, const char *json, lucent_image *out, lucent_stats *stats);
 lucent_renderer *test_renderer(void);
 
+/* Writes text as /tmp/lucent-NAME-PID.obj into path; aborts the run on failure. */
+void test_write_obj(char *path, size_t cap, const char *name, const char *text);
 /* Writes a flat square [-1,1]^2 at z = 0 facing +z as an OBJ file; returns its path (static buffer). */
 const char *test_write_square_obj(void);
 
