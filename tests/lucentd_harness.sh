@@ -31,5 +31,6 @@ start() {
     exit 1
 }
 
-# pngs FILE:W:H...: each a valid 8-bit RGBA PNG of that size, lit and covered (tests/check_png.py).
+# pngs [--lit LEVEL] FILE:W:H...: each a valid 8-bit RGBA PNG of that size showing a lit object
+# (tests/check_png.py: covered share and mean brightness at least the minimums, both printed).
 pngs() { python3 "$harness_dir/check_png.py" "$@"; }

@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # test_lucentd.sh - lucentd over HTTP with curl: every endpoint, every error status with its problem+json
-# body, caching, CORS, meshes across a restart, 32 parallel renders, a full queue, deadlines and SIGTERM.
-# Usage: test_lucentd.sh PATH/TO/lucentd. Images are decoded with oiiotool and checked for size and content.
+# body, caching, CORS, meshes of every format across a restart, importers that crash or hang, 32 parallel
+# renders, a full queue, deadlines, the server's limits and SIGTERM with and without a drain deadline.
+# Usage: test_lucentd.sh PATH/TO/lucentd. Images are decoded and checked for size and content
+# (tests/check_png.py). Waits are on observable state (/metrics, /readyz, log lines), each with a generous
+# outer limit, never on a fixed sleep.
 set -u
 lucentd=$1
 work=$(mktemp -d)
@@ -45,6 +48,8 @@ EOF
     local rc=$?
     [[ $rc == 0 ]] && grep -qi '^content-type: application/problem+json' "$1.h"
 }
+# problem_with FILE STATUS FIELD TEXT: such a problem body, and TEXT in it (which of several 422s it is).
+problem_with() { problem "$1" "$2" "$3" && grep -q "$4" "$1"; }
 
 # exr FILE W H: oiiotool decodes it as a float image of that size.
 exr() {
@@ -56,6 +61,29 @@ exr() {
 
 json_field() { python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print(eval("d"+sys.argv[2]))' "$1" "$2"; }
 metric() { curl -s "$@" | awk -v m="$METRIC" '$1 == m { print $2 }'; }
+# problem_type FILE: the last part of a problem body's type ("queue-full", "deadline", "not-ready", ...).
+problem_type() { json_field "$1" '["type"].rsplit(":", 1)[-1]'; }
+ms_since() { echo $(( ($(date +%s%N) - $1) / 1000000 )); }
+
+# wait_in_flight N URL [curl args...]: polls /metrics every 10 ms until lucentd_renders_in_flight is N, for
+# up to 60 s; sets $waited_ms and fails when it never was.
+wait_in_flight() {
+    local want=$1 url=$2 t0; shift 2
+    t0=$(date +%s%N)
+    while [[ $(METRIC=lucentd_renders_in_flight metric "$@" "$url/metrics") != "$want" ]]; do
+        if (( $(ms_since "$t0") > 60000 )); then waited_ms=$(ms_since "$t0"); return 1; fi
+        sleep 0.01
+    done
+    waited_ms=$(ms_since "$t0")
+}
+
+# logged_before LOG A B: the first line matching A comes before the first line matching B.
+logged_before() {
+    local a b
+    a=$(grep -n -m1 -e "$2" "$1" | cut -d: -f1); b=$(grep -n -m1 -e "$3" "$1" | cut -d: -f1)
+    echo "   log lines: \"$2\" at ${a:-none}, \"$3\" at ${b:-none}"
+    [[ -n $a && -n $b ]] && (( a < b ))
+}
 
 # A closed cube, and an OBJ with vertices but no faces.
 cube=$work/cube.obj
@@ -67,6 +95,22 @@ printf 'v 0 0 0\nv 1 0 0\n' >"$work/nofaces.obj"
 fast='projection_size=128'
 scene_json='{"mesh":{"builtin":"protrusion"},"material":{"preset":"marble"},"lights":[{"direction":[-1,0,0]}],"width":96,"height":80,"projection_size":128}'
 scene_query="mesh=protrusion&preset=marble&light_dir=-1,0,0&w=96&h=80&$fast"
+
+# The image check itself must be able to fail: a fully covered image of RGB 3 and a 64x64 image with one
+# white pixel, each a valid PNG of the right size.
+python3 - "$work" <<'EOF2'
+import struct, sys, zlib
+def png(path, w, h, pixel):
+    raw = b"".join(b"\0" + b"".join(pixel(x, y) for x in range(w)) for y in range(h))
+    chunk = lambda kind, body: struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+    open(path, "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 6, 0, 0, 0)) +
+                           chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+png(sys.argv[1] + "/dark.png", 64, 64, lambda x, y: b"\3\3\3\xff")
+png(sys.argv[1] + "/dot.png", 64, 64, lambda x, y: b"\xff\xff\xff\xff" if (x, y) == (32, 32) else b"\0\0\0\0")
+EOF2
+pngs "$work/dark.png:64:64"; dark=$?
+pngs "$work/dot.png:64:64"; dot=$?
+check "check_png.py refuses a near-black image ($dark) and a one-pixel image ($dot)" [ $dark = 1 -a $dot = 1 ]
 
 # ---- daemon A: no image cache (so GET and POST both render), CORS for one origin, small limits ----
 store=$work/store
@@ -118,6 +162,11 @@ check "Accept: image/x-exr -> 200 ($c) image/x-exr" [ "$(header "$work/exr" Cont
 check "EXR decodes as 96x80 float" exr "$work/exr" 96 80
 c=$(req "$work/fmt" GET "$A/v1/render?$scene_query&format=exr" -H 'Accept: image/*')
 check "format=exr with Accept image/* -> 200 ($c) EXR" [ "$(header "$work/fmt" Content-Type)" = image/x-exr ]
+# light_type reaches the renderer: a point light inside the bounding sphere is the one light whose shadow
+# map is skipped for that reason, and the renderer says so.
+c=$(req "$work/pt.png" GET "$A/v1/render?mesh=protrusion&light_type=point&light_pos=0,0,0.2&w=48&h=48&$fast")
+shadows=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["shadows"])' "$(header "$work/pt.png" Lucent-Modelled)")
+check "light_type=point -> 200 ($c), modelled shadows $shadows" [ "$c" = 200 -a "$shadows" = "['skipped: point light inside the bounding sphere (unshadowed)']" ]
 
 # Errors, each with its problem+json body and field.
 c=$(req "$work/e" POST "$A/v1/render" -H 'Content-Type: application/json' -d '{"width": 64,')
@@ -165,9 +214,13 @@ c=$(req "$work/pf" OPTIONS "$A/v1/render" -H 'Origin: https://app.example' -H 'A
 check "preflight 204 ($c) allows the origin and POST" [ "$c" = 204 -a "$(header "$work/pf" Access-Control-Allow-Origin)" = https://app.example ]
 check "preflight lists methods and headers" grep -qi '^access-control-allow-methods: .*POST' "$work/pf.h"
 c=$(req "$work/pf2" OPTIONS "$A/v1/render" -H 'Origin: https://evil.example' -H 'Access-Control-Request-Method: POST')
-check "preflight from another origin gets no CORS headers" bash -c "! grep -qi '^access-control-allow-origin' '$work/pf2.h'"
+# Answered (204) yet without CORS headers: a preflight that got no answer at all must not pass.
+check "preflight from another origin: 204 ($c) and no CORS headers" \
+    bash -c "[ '$c' = 204 ] && ! grep -qi '^access-control-allow-origin' '$work/pf2.h'"
 c=$(req "$work/cors.png" GET "$A/v1/render?$scene_query" -H 'Origin: https://app.example')
-check "GET with Origin exposes ETag and Server-Timing" grep -qi '^access-control-expose-headers: ETag, Server-Timing' "$work/cors.png.h"
+exposed=$(header "$work/cors.png" Access-Control-Expose-Headers)
+check "GET with Origin ($c) exposes \"$exposed\", Lucent-Modelled among them" \
+    [ "$c" = 200 -a "$exposed" = "ETag, Server-Timing, Lucent-Modelled, X-Request-Id, Retry-After" ]
 
 # Meshes: upload (201, then 200 for the same bytes), metadata, render, delete.
 c=$(req "$work/up" POST "$A/v1/meshes" --data-binary @"$cube")
@@ -189,6 +242,23 @@ c=$(req "$work/e" GET "$A/v1/meshes/$tetra_id")
 check "deleted mesh is 404 ($c)" problem "$work/e" 404 mesh.id
 c=$(req "$work/e" GET "$A/v1/meshes/NOT-HEX")
 check "malformed mesh id is 404 ($c)" problem "$work/e" 404 mesh.id
+# Every other format from Debian's assimp-testmodels, each uploaded and rendered: the PLY and the GLB with
+# no Content-Type (format sniffed from the bytes), the STL and the glTF (embedded buffers) labelled.
+models=/usr/share/assimp/models
+uploaded=()
+codes=
+for spec in "PLY/cube.ply::12" "STL/sphereWithHole.stl:model/stl:285" \
+    "glTF2/BoxTextured-glTF-Embedded/BoxTextured.gltf:model/gltf+json:12" "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb::12"; do
+    IFS=: read -r file type triangles <<<"$spec"
+    name=${file##*/}
+    c=$(req "$work/up_$name" POST "$A/v1/meshes" ${type:+-H "Content-Type: $type"} --data-binary @"$models/$file")
+    read -r got id < <(python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print(d["triangles"], d["id"])' \
+        "$work/up_$name" 2>/dev/null)
+    check "upload $name (${type:-sniffed}): 201 ($c), ${got:-no} triangles (expected $triangles)" [ "$c" = 201 -a "${got:-}" = "$triangles" ]
+    codes+=" $(req "$work/$name.png" GET "$A/v1/render?mesh=${id:-none}&w=48&h=48&$fast")"
+    uploaded+=("$work/$name.png:48:48")
+done
+check "the four uploaded meshes rendered ($codes)" pngs "${uploaded[@]}"
 
 # 32 parallel renders of 32 different scenes: all 200, all valid, each its own size.
 t0=$(date +%s%N)
@@ -241,7 +311,9 @@ python3 -c "import sys; p=sys.argv[1]; b=bytearray(open(p,'rb').read()); b[len(b
 c=$(req "$work/e" GET "$A/v1/render?mesh=$cube_id&w=64&h=64&light_dir=-1,-0.5,-1&exposure=1&$fast")
 check "a damaged stored mesh -> 500 ($c): $(json_field "$work/e" '["detail"]' | cut -c1-70)" problem "$work/e" 500 mesh.file
 c=$(req "$work/after.png" GET "$A/v1/render?w=64&h=64&exposure=2&$fast")
-check "the daemon renders on after the 500 ($c)" pngs "$work/after.png:64:64"
+# exposure=2 is four times the radiance; after sRGB encoding the covered pixels' mean brightness goes from
+# 81.9 (exposure 0) to 156.3 (1: 113.7), so a minimum of 100 shows the exposure was applied.
+check "the daemon renders on after the 500 ($c), exposure=2 bright" pngs --lit 100 "$work/after.png:64:64"
 # Memory stays flat: 1000 distinct renders (16x16, each its own ETag) on one keep-alive connection.
 python3 - "$A" "$pid" >"$work/rss.txt" <<'EOF2'
 import http.client, sys, urllib.parse
@@ -264,70 +336,171 @@ EOF2
 read -r rss_bad rss_200 rss_1000 <"$work/rss.txt"
 check "1000 renders: $rss_bad failed; resident memory ${rss_200} kB after 200, ${rss_1000} kB after 1000 (growth < 4 MB)" \
     [ "$rss_bad" = 0 -a $(( rss_1000 - rss_200 )) -lt 4096 ]
-stop "$pid"; rc=$?
-check "A2: SIGTERM -> exit 0 ($rc)" [ "$rc" = 0 ]
+# SIGTERM while a render runs (default drain timeout, 30 s): the render is answered. A reference render of
+# 1000 points (1.7 s here) is in flight long after the poll sees it, and the log's order shows it was still
+# running when the daemon noticed SIGTERM. The query's reference_points and reference_threshold come back
+# in what the renderer reports.
+A2_pid=$pid
+req "$work/drain.png" GET "$A/v1/render?method=reference&w=192&h=192&reference_points=1000&reference_threshold=0.5" \
+    -H 'X-Request-Id: drain-render' >"$work/drain.code" &
+drain_curl=$!
+wait_in_flight 1 "$A"; seen=$?
+check "A2: the reference render is in flight ${waited_ms} ms after it was sent" [ $seen = 0 ]
+kill -TERM "$A2_pid"
+wait "$drain_curl"
+check "A2: the render in flight at SIGTERM was answered: $(cat "$work/drain.code")" pngs "$work/drain.png:192:192"
+modelled=$(python3 -c 'import json,sys; d=json.loads(sys.argv[1]); print(d["points"], d["threshold"], d["sum"])' \
+    "$(header "$work/drain.png" Lucent-Modelled)")
+check "A2: reference_points=1000, reference_threshold=0.5 rendered as points, threshold, sum: $modelled" \
+    [ "$modelled" = "1000 0.5 hierarchical" ]
+check "A2: it finished after the daemon noticed SIGTERM" \
+    logged_before "$work/A2.log" 'SIGTERM: draining' 'access id=drain-render GET /v1/render status=200'
+stop "$A2_pid"; rc=$?
+check "A2: exit 0 after the render ($rc)" [ "$rc" = 0 ]
 
-# ---- B: a queue of one, a token, slow renders: 503 when full, SIGTERM lets the render finish ----
+# ---- B: a queue of one, a token, a drain deadline of 1 s: 503 when full; SIGTERM answers what is left ----
 echo "s3cret-token" >"$work/token"
-start B --store-dir "$work/storeB" --queue-length 1 --token-file "$work/token" --retry-after 2
+start B --store-dir "$work/storeB" --queue-length 1 --token-file "$work/token" --retry-after 2 --drain-timeout 1
 B=$base
 B_pid=$pid
 auth=(-H 'Authorization: Bearer s3cret-token')
-slow="method=reference&w=96&h=96"
 c=$(req "$work/e" GET "$B/v1/materials")
 check "401 without the token ($c), WWW-Authenticate: $(header "$work/e" WWW-Authenticate)" problem "$work/e" 401 Authorization
 c=$(req "$work/e" GET "$B/v1/materials" -H 'Authorization: Bearer wrong')
 check "401 with a wrong token ($c)" [ "$c" = 401 ]
 c=$(req "$work/mat" GET "$B/v1/materials" "${auth[@]}")
 check "200 with the token ($c); /healthz needs none" [ "$c" = 200 -a "$(curl -s -o /dev/null -w '%{http_code}' "$B/healthz")" = 200 ]
-curl -s -o "$work/slow1.png" -w '%{http_code}' "${auth[@]}" "$B/v1/render?$slow" >"$work/slow1.code" &
-slow_pid=$!
-for _ in $(seq 1 100); do [[ $(curl -s -o /dev/null -w '%{http_code}' "$B/readyz") == 503 ]] && break; sleep 0.05; done
+# A reference render with automatic points at 1024^2 would run for minutes (24 s at 384^2 on 2 cores; it
+# uses every core), far longer than the 2 s this part of the test needs: the queue stays full until SIGTERM's
+# drain deadline ends it, however fast or loaded the machine.
+req "$work/long" GET "$B/v1/render?method=reference&w=1024&h=1024" "${auth[@]}" >"$work/long.code" &
+long_curl=$!
+wait_in_flight 1 "$B" "${auth[@]}"; seen=$?
+check "the long render is in flight ${waited_ms} ms after it was sent" [ $seen = 0 ]
 c=$(req "$work/r" GET "$B/readyz")
 check "readyz 503 ($c) while the queue is full: $(cat "$work/r")" grep -q '"queue full"' "$work/r"
 c=$(req "$work/e" GET "$B/v1/render?w=64&h=64" "${auth[@]}")
-check "queue full -> 503 ($c) with Retry-After: $(header "$work/e" Retry-After)" problem "$work/e" 503 ""
-check "Retry-After is the configured 2" [ "$(header "$work/e" Retry-After)" = 2 ]
-wait "$slow_pid"
-check "the slow render finished: 200 $(cat "$work/slow1.code")" pngs "$work/slow1.png:96:96"
-# SIGTERM while a render runs: it is answered, new requests are not, and the exit status is 0.
-curl -s -o "$work/slow2.png" -w '%{http_code}' "${auth[@]}" "$B/v1/render?$slow&exposure=1" >"$work/slow2.code" &
-slow_pid=$!
-for _ in $(seq 1 100); do
-    [[ $(curl -s "${auth[@]}" "$B/metrics" | awk '$1 == "lucentd_renders_in_flight" { print $2 }') == 1 ]] && break
-    sleep 0.05
-done
-t0=$(date +%s%N)
-kill -TERM "$B_pid"
-sleep 0.2
-late=$(curl -s -o /dev/null -w '%{http_code}' "${auth[@]}" "$B/v1/render?w=64&h=64")
-check "after SIGTERM new renders are refused (status $late: 503 or no connection)" [ "$late" = 503 -o "$late" = 000 ]
-wait "$slow_pid"
-check "the render in flight at SIGTERM finished: 200 $(cat "$work/slow2.code")" pngs "$work/slow2.png:96:96"
+kind=$(problem_type "$work/e"); retry=$(header "$work/e" Retry-After)
+check "queue full -> 503 ($c) $kind with the configured Retry-After: $retry" [ "$kind" = queue-full -a "$retry" = 2 ]
+check "... a problem+json body" problem "$work/e" 503 ""
+# SIGTERM from a connection opened before it: new connections are no longer accepted, so /readyz and a
+# render are asked on this one (http.client keeps it alive).
+python3 - "$B" "$B_pid" >"$work/sigterm.txt" <<'EOF2'
+import http.client, json, os, signal, sys, time, urllib.parse
+base, pid = urllib.parse.urlparse(sys.argv[1]), int(sys.argv[2])
+conn = http.client.HTTPConnection(base.hostname, base.port, timeout=30)
+auth = {"Authorization": "Bearer s3cret-token"}
+def get(path, headers={}):
+    conn.request("GET", path, headers=headers)
+    r = conn.getresponse()
+    return r.status, r.getheader("Retry-After"), r.read()
+get("/readyz")
+os.kill(pid, signal.SIGTERM)
+t0 = time.monotonic()
+while True:
+    status, _, body = get("/readyz")
+    reason = json.loads(body).get("reason")
+    if reason == "draining" or time.monotonic() - t0 > 30:
+        break
+    time.sleep(0.01)
+print("readyz", status, reason, "%.0f" % ((time.monotonic() - t0) * 1e3))
+status, retry, body = get("/v1/render?w=64&h=64", auth)
+print("render", status, json.loads(body).get("type", "").rsplit(":", 1)[-1], retry)
+_, _, body = get("/metrics", auth)
+print("in_flight", [l.split()[1] for l in body.decode().splitlines() if l.startswith("lucentd_renders_in_flight ")][0])
+conn.close()
+EOF2
+read -r _ ready_status ready_reason ready_ms <<<"$(grep ^readyz "$work/sigterm.txt")"
+read -r _ late_status late_type late_retry <<<"$(grep ^render "$work/sigterm.txt")"
+check "after SIGTERM /readyz says $ready_status $ready_reason (within $ready_ms ms)" [ "$ready_status" = 503 -a "$ready_reason" = draining ]
+check "after SIGTERM a render on an open connection is refused: $late_status $late_type, Retry-After $late_retry" \
+    [ "$late_status" = 503 -a "$late_type" = not-ready -a "$late_retry" = 2 ]
+check "while draining the long render is still running: $(grep ^in_flight "$work/sigterm.txt")" grep -q '^in_flight 1$' "$work/sigterm.txt"
+c=$(curl -s -o /dev/null -w '%{http_code}' --max-time 30 "$B/healthz")
+check "after SIGTERM a new connection gets no answer ($c)" [ "$c" = 000 ]
+wait "$long_curl"
+c=$(cat "$work/long.code"); kind=$(problem_type "$work/long"); retry=$(header "$work/long" Retry-After)
+check "at the drain deadline the long render is answered $c $kind with Retry-After $retry" \
+    [ "$c" = 503 -a "$kind" = not-ready -a "$retry" = 2 ]
 stop "$B_pid"; rc=$?
-t1=$(date +%s%N)
-check "B: exit 0 after draining ($rc, $(( (t1 - t0) / 1000000 )) ms after SIGTERM)" [ "$rc" = 0 ]
-check "B log says draining then stopped" bash -c "grep -q 'SIGTERM: draining' '$work/B.log' && grep -q 'stopped' '$work/B.log'"
+check "B: exit 0 after the drain deadline ($rc)" [ "$rc" = 0 ]
+# The drain lasts --drain-timeout: not less (renders get their time), and not much more (1.006-1.015 s measured;
+# the bound allows 1 s of scheduling delay, far below the default 30 s or the render's own minute). Measured
+# between the daemon's own log lines (ms timestamps).
+drain_s=$(python3 - "$work/B.log" <<'EOF2'
+import datetime, sys
+def when(text):
+    line = next(l for l in open(sys.argv[1]) if text in l)
+    return datetime.datetime.strptime(line.split()[0], "%Y-%m-%dT%H:%M:%S.%fZ")
+print("%.3f" % (when("drain deadline reached; answering 1 unfinished") - when("SIGTERM: draining")).total_seconds())
+EOF2
+)
+check "B: the drain deadline came ${drain_s} s after SIGTERM (--drain-timeout 1: at least 1.0 s, under 2.0 s)" \
+    python3 -c "import sys; sys.exit(not 1.0 <= float(sys.argv[1]) < 2.0)" "${drain_s:-0}"
+check "B log says draining, deadline reached, stopped" \
+    bash -c "grep -q 'SIGTERM: draining (up to 1 s)' '$work/B.log' && grep -q 'drain deadline reached' '$work/B.log' && grep -q 'stopped' '$work/B.log'"
 
-# ---- C: a render deadline shorter than the render; limits up to what the device can do ----
-start C --store-dir "$work/storeC" --render-timeout 0.1 --max-width 4096 --max-height 4096
-c=$(req "$work/e" GET "$base/v1/render?w=4000&h=4000")
+# ---- C: a render deadline shorter than the render; limits up to what the device can do; other limits;
+# CORS for every origin; an importer that crashes, hangs or runs out of memory ----
+# The importer stand-in picks its failure from the upload's first bytes (each upload is labelled OBJ), so one
+# daemon sees all three; tests/fake_import_tool.sh takes its one failure from the environment instead.
+cat >"$work/import_tool.sh" <<'EOF2'
+#!/bin/sh
+case $(head -c 16) in
+  crash*) kill -SEGV $$ ;;
+  hang*) exec sleep 60 ;;
+  nomem*) echo '{"status":"nomem","field":"mesh","message":"out of memory"}'; exit 2 ;;
+esac
+exit 3
+EOF2
+chmod +x "$work/import_tool.sh"
+start C --store-dir "$work/storeC" --render-timeout 0.1 --retry-after 3 --max-width 4096 --max-height 4096 \
+    --max-samples 16 --max-lights 2 --cors-origins '*' --import-tool "$work/import_tool.sh" --import-wall 1 --log-level debug
+C=$base
+C_pid=$pid
+c=$(req "$work/e" GET "$C/v1/render?w=4000&h=4000")
 check "413 image larger than the device renders ($c): $(json_field "$work/e" '["detail"]')" problem "$work/e" 413 w
-c=$(req "$work/e" GET "$base/v1/render?method=reference&w=384&h=384")
-check "render over render-timeout -> 503 ($c): $(json_field "$work/e" '["detail"]' | cut -c1-60)" problem "$work/e" 503 ""
-# The overdue reference render (many seconds) is cancelled, so the worker is free again at once.
+# Above the default 16 samples but below the parser's caps (64 samples, 4 lights): only --max-samples 16 and
+# --max-lights 2 refuse these.
+c=$(req "$work/e" GET "$C/v1/render?w=64&h=64&samples=17")
+check "413 samples=17 over --max-samples 16 ($c): $(json_field "$work/e" '["detail"]')" problem "$work/e" 413 samples
+c=$(req "$work/e" POST "$C/v1/render" -H 'Content-Type: application/json' \
+    -d '{"width":64,"height":64,"lights":[{"direction":[-1,0,0]},{"direction":[0,-1,0]},{"direction":[0,0,-1]}]}')
+check "413 three lights over --max-lights 2 ($c): $(json_field "$work/e" '["detail"]')" problem "$work/e" 413 lights
+c=$(req "$work/pf" OPTIONS "$C/v1/render" -H 'Origin: https://any.example' -H 'Access-Control-Request-Method: POST')
+check "--cors-origins '*': preflight from any origin 204 ($c), Allow-Origin $(header "$work/pf" Access-Control-Allow-Origin)" \
+    [ "$c" = 204 -a "$(header "$work/pf" Access-Control-Allow-Origin)" = '*' ]
+c=$(req "$work/h" GET "$C/healthz" -H 'Origin: https://other.example')
+allow=$(header "$work/h" Access-Control-Allow-Origin); vary=$(header "$work/h" Vary)
+# One answer for every origin, so no Vary: Origin (which would split caches per origin for nothing).
+check "--cors-origins '*': a GET ($c) gets Allow-Origin $allow, Vary \"$vary\"" [ "$c" = 200 -a "$allow" = '*' -a -z "$vary" ]
+# 1000 irradiance points at 512^2: the render takes 6.5 s on 2 cores (measured), 65 times the deadline; its
+# set-up is short. With automatic points (up to 400k) the serial point-tree build, which is not cancellable,
+# delays the stop (290-490 ms measured here); with 1000 what is measured is the cancellation itself.
+c=$(req "$work/e" GET "$C/v1/render?method=reference&w=512&h=512&reference_points=1000")
+deadline_code=$c; kind=$(problem_type "$work/e"); retry=$(header "$work/e" Retry-After)
+check "render over render-timeout -> 503 ($c) $kind with the configured Retry-After $retry: $(json_field "$work/e" '["detail"]' | cut -c1-60)" \
+    [ "$c" = 503 -a "$kind" = deadline -a "$retry" = 3 ]
+# The overdue render is cancelled, so the worker is free again soon (README: about 0.1 s; 17-36 ms measured
+# here with 10 ms polls). The bound, 500 ms, leaves room for a loaded 2-core machine; the daemon's debug line
+# says the render was cancelled rather than finished, and after how long it stopped.
+wait_in_flight 0 "$C"; seen=$?
+cancelled=$(grep -o 'the reference render was cancelled in [0-9.]* ms' "$work/C.log")
+check "the overdue render was cancelled: no render in flight $waited_ms ms after its 503 (bound 500 ms); \"${cancelled:-no log line}\"" \
+    [ "$deadline_code" = 503 -a $seen = 0 -a "$waited_ms" -lt 500 -a -n "$cancelled" ]
+c=$(req "$work/e" POST "$C/v1/meshes" -H 'Content-Type: model/obj' --data-binary 'crash')
+check "an importer that crashes -> 422 ($c): $(json_field "$work/e" '["detail"]')" problem_with "$work/e" 422 mesh crashed
 t0=$(date +%s%N)
-for _ in $(seq 1 60); do
-    [[ $(curl -s "$base/metrics" | awk '$1 == "lucentd_renders_in_flight" { print $2 }') == 0 ]] && break
-    sleep 0.05
-done
-t1=$(date +%s%N)
-check "the overdue render was cancelled: no render in flight $(( (t1 - t0) / 1000000 )) ms after its 503 (< 3000)" \
-    [ $(( (t1 - t0) / 1000000 )) -lt 3000 ]
-c=$(req "$work/h" GET "$base/healthz")
-check "daemon still healthy after a deadline ($c)" [ "$c" = 200 ]
-stop "$pid"; rc=$?
-check "C: exit 0 with a render still running at the deadline ($rc)" [ "$rc" = 0 ]
+c=$(req "$work/e" POST "$C/v1/meshes" -H 'Content-Type: model/obj' --data-binary 'hang')
+check "an importer that hangs is stopped at --import-wall 1 s -> 422 ($c) after $(ms_since "$t0") ms: $(json_field "$work/e" '["detail"]')" \
+    problem_with "$work/e" 422 mesh 'took longer than 1 s'
+c=$(req "$work/e" POST "$C/v1/meshes" -H 'Content-Type: model/obj' --data-binary 'nomem')
+check "an importer out of memory -> 413 ($c): $(json_field "$work/e" '["detail"]')" problem_with "$work/e" 413 mesh 'more than'
+children=$(pgrep -P "$C_pid" | wc -l)
+c=$(req "$work/h" GET "$C/healthz")
+check "the daemon lives on ($c) with no importer left running ($children children)" [ "$c" = 200 -a "$children" = 0 ]
+stop "$C_pid"; rc=$?
+check "C: exit 0 after a deadline and three failed imports ($rc)" [ "$rc" = 0 ]
 
 echo "whole test: $SECONDS s"
 echo "$passed passed, $failed failed"

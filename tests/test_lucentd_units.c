@@ -125,18 +125,20 @@ static void query_matches_document(void)
 {
     static const char *const kv[] = {
         "mesh", "torus", "mesh_triangles", "3000", "scale_mm", "20", "sigma_a", "0.01,0.02,0.03",
-        "sigma_s_prime", "1,2,3", "eta", "1.4", "g", "0.2", "light_pos", "3,4,5", "light_color", "1,0.5,0.25",
-        "light_intensity", "7", "camera_pos", "0,1,5", "camera_target", "0,0.5,0", "camera_up", "0,1,0.1",
-        "fov", "35", "w", "200", "h", "100", "method", "single", "samples", "12", "sampling", "per_channel",
-        "fallback", "front", "single_scattering", "true", "projection_size", "256", "side_projection_size", "64",
-        "background", "0.1,0.2,0.3,0.4", "exposure", "-1.5", "format", "exr"};
+        "sigma_s_prime", "1,2,3", "eta", "1.4", "g", "0.2", "light_type", "point", "light_pos", "3,4,5",
+        "light_color", "1,0.5,0.25", "light_intensity", "7", "camera_pos", "0,1,5", "camera_target", "0,0.5,0",
+        "camera_up", "0,1,0.1", "fov", "35", "w", "200", "h", "100", "method", "single", "samples", "12",
+        "sampling", "per_channel", "fallback", "front", "single_scattering", "true", "projection_size", "256",
+        "side_projection_size", "64", "background", "0.1,0.2,0.3,0.4", "exposure", "-1.5", "format", "exr",
+        "reference_points", "2000", "reference_threshold", "0.25"};
     const char *doc = "{\"mesh\":{\"builtin\":\"torus\",\"triangles\":3000},\"scale_mm\":20,"
                       "\"material\":{\"sigma_a\":[0.01,0.02,0.03],\"sigma_s_prime\":[1,2,3],\"eta\":1.4,\"g\":0.2},"
                       "\"lights\":[{\"type\":\"point\",\"position\":[3,4,5],\"color\":[1,0.5,0.25],\"intensity\":7}],"
                       "\"camera\":{\"position\":[0,1,5],\"target\":[0,0.5,0],\"up\":[0,1,0.1],\"fov_deg\":35},"
                       "\"width\":200,\"height\":100,\"method\":\"single\",\"samples\":12,\"sampling\":\"per_channel\","
                       "\"fallback\":\"front\",\"single_scattering\":true,\"projection_size\":256,"
-                      "\"side_projection_size\":64,\"background\":[0.1,0.2,0.3,0.4],\"exposure\":-1.5,\"format\":\"exr\"}";
+                      "\"side_projection_size\":64,\"background\":[0.1,0.2,0.3,0.4],\"exposure\":-1.5,\"format\":\"exr\","
+                      "\"reference\":{\"points\":2000,\"threshold\":0.25}}";
     lucent_scene q, d = parse(doc);
     lucent_error err = {0};
     lucent_status st = query(kv, (int)(sizeof kv / sizeof kv[0] / 2), &q, &err);
@@ -161,6 +163,8 @@ static void query_matches_document(void)
         {"mesh_triangles", "5000", "mesh"},      {"w", "0x10", "w"},                  {"w", " 64", "w"},
         {"exposure", "+1", "exposure"},          {"exposure", "1.", "exposure"},      {"exposure", "01", "exposure"},
         {"background", "0,,0,1", "background"}, {"background", "0,0,0,", "background"},
+        {"light_type", "spot", "light_type"},   {"reference_points", "500", "reference_points"},
+        {"reference_threshold", "2", "reference_threshold"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         const char *kv1[] = {bad[i].key, bad[i].value};
@@ -169,6 +173,14 @@ static void query_matches_document(void)
         test_check(st != LUCENT_OK && strcmp(err.field, bad[i].field) == 0, "%s=%s refused naming \"%s\" (got \"%s\": %s)",
                    bad[i].key, bad[i].value, bad[i].field, err.field, err.message);
     }
+    /* light_pos alone implies a point light; an explicit light_type wins, so a directional light with a
+     * position and no direction is refused rather than quietly turned into a point light. */
+    const char *typed[] = {"light_type", "directional", "light_pos", "3,4,5"};
+    memset(&err, 0, sizeof err);
+    st = query(typed, 2, &q, &err);
+    test_check(st == LUCENT_E_INVALID && strcmp(err.field, "light_pos") == 0,
+               "light_type=directional&light_pos=3,4,5 refused naming \"light_pos\", not a point light (\"%s\": %s)",
+               err.field, err.message);
     const char *twice[] = {"w", "10", "w", "20"};
     st = query(twice, 2, &q, &err);
     test_check(st == LUCENT_E_INVALID && strcmp(err.field, "w") == 0, "a repeated field is refused");
