@@ -1,5 +1,6 @@
 /* image_compare.c - how far an image is from a reference: the error measures of the speed/accuracy
- * trade, over the whole object and over the silhouette band where a single projection image fails. */
+ * trade, over the whole object and over the silhouette band where a single projection image fails,
+ * and the error split into speckle (high-pass), low frequencies and energy (mean ratio). */
 #include "lucent.h"
 
 #include <math.h>
@@ -45,13 +46,19 @@ static int compare_double(const void *x, const void *y)
     return (a > b) - (a < b);
 }
 
+/* A norm of differences over a reference norm; the absolute norm where the reference is black. */
+static double relative(double diff2, double ref2)
+{
+    return ref2 > 0.0 ? sqrt(diff2 / ref2) : sqrt(diff2);
+}
+
 static void finish(struct accumulator *a, lucent_error_measures *m)
 {
     *m = (lucent_error_measures){.pixels = a->pixels};
     if (a->pixels == 0)
         return;
     qsort(a->rel, (size_t)a->pixels, sizeof *a->rel, compare_double);
-    m->rel_l2 = a->ref2 > 0.0 ? sqrt(a->diff2 / a->ref2) : sqrt(a->diff2);
+    m->rel_l2 = relative(a->diff2, a->ref2);
     m->mean_abs = a->abs_sum / a->values;
     m->max_abs = a->abs_max;
     m->p99_rel = a->rel[(size_t)floor(0.99 * (a->pixels - 1))];
@@ -70,6 +77,78 @@ static double mean_reference(const lucent_image *ref, size_t pixels)
             n++;
         }
     return n ? sum / n : 0.0;
+}
+
+/* Mean of channel c over the (2 * r + 1)^2 box centred on (x, y); the box lies inside the image. */
+static double box_mean(const lucent_image *img, int x, int y, int c, int r)
+{
+    double sum = 0.0;
+    for (int v = y - r; v <= y + r; v++)
+        for (int u = x - r; u <= x + r; u++)
+            sum += img->rgba[((size_t)v * img->width + u) * 4 + c];
+    return sum / ((2 * r + 1) * (2 * r + 1));
+}
+
+/* Whether the 5x5 neighbourhood of (x, y) lies in the image and is covered in both images, so both
+ * box filters below see only object pixels (a silhouette is not an error of either method). */
+static int interior(const lucent_image *test, const lucent_image *ref, int x, int y)
+{
+    if (x < 2 || y < 2 || x >= ref->width - 2 || y >= ref->height - 2)
+        return 0;
+    for (int v = y - 2; v <= y + 2; v++)
+        for (int u = x - 2; u <= x + 2; u++) {
+            size_t i = (size_t)v * ref->width + u;
+            if (!covered(test, i) || !covered(ref, i))
+                return 0;
+        }
+    return 1;
+}
+
+struct frequency_sums {
+    double high_diff2, ref2, low_diff2, low_ref2;
+    int pixels;
+};
+
+/* hp(x) = x - box3x3(x) is what a viewer sees as speckle; box5x5 keeps what survives a small blur. */
+static void add_frequencies(struct frequency_sums *f, const lucent_image *test, const lucent_image *ref, int x, int y)
+{
+    size_t i = ((size_t)y * ref->width + x) * 4;
+    for (int c = 0; c < 3; c++) {
+        double t = test->rgba[i + c], r = ref->rgba[i + c];
+        double high = (t - box_mean(test, x, y, c, 1)) - (r - box_mean(ref, x, y, c, 1));
+        double low_t = box_mean(test, x, y, c, 2), low_r = box_mean(ref, x, y, c, 2);
+        f->high_diff2 += high * high;
+        f->ref2 += r * r;
+        f->low_diff2 += (low_t - low_r) * (low_t - low_r);
+        f->low_ref2 += low_r * low_r;
+    }
+    f->pixels++;
+}
+
+static void compare_frequencies(const lucent_image *test, const lucent_image *ref, lucent_image_error *out)
+{
+    struct frequency_sums f = {0};
+    for (int y = 0; y < ref->height; y++)
+        for (int x = 0; x < ref->width; x++)
+            if (interior(test, ref, x, y))
+                add_frequencies(&f, test, ref, x, y);
+    out->interior_pixels = f.pixels;
+    out->noise = relative(f.high_diff2, f.ref2);
+    out->low_frequency_rel_l2 = relative(f.low_diff2, f.low_ref2);
+}
+
+/* Summed RGB of test over that of the reference, over the pixels covered in both: 1 when the energy
+ * matches; 0 when the reference is black there. */
+static double mean_ratio(const lucent_image *test, const lucent_image *ref, size_t pixels)
+{
+    double t = 0.0, r = 0.0;
+    for (size_t i = 0; i < pixels; i++)
+        if (covered(test, i) && covered(ref, i))
+            for (int c = 0; c < 3; c++) {
+                t += test->rgba[i * 4 + c];
+                r += ref->rgba[i * 4 + c];
+            }
+    return r > 0.0 ? t / r : 0.0;
 }
 
 lucent_status lucent_image_compare(const lucent_image *test, const lucent_image *ref, lucent_image_error *out,
@@ -102,6 +181,8 @@ lucent_status lucent_image_compare(const lucent_image *test, const lucent_image 
     finish(&band, &out->band);
     free(all.rel);
     free(band.rel);
+    compare_frequencies(test, ref, out);
+    out->mean_ratio = mean_ratio(test, ref, pixels);
     return LUCENT_OK;
 }
 
@@ -119,7 +200,10 @@ int lucent_image_error_json(const lucent_image_error *e, char *buf, size_t cap)
     char object[256], band[256];
     measures_json(&e->object, object, sizeof object);
     measures_json(&e->band, band, sizeof band);
-    int n = snprintf(buf, cap, "{%s,\"coverage_mismatch\":%d,\"silhouette_band\":{%s}}", object,
-                     e->coverage_mismatch, band);
+    int n = snprintf(buf, cap,
+                     "{%s,\"coverage_mismatch\":%d,\"mean_ratio\":%.6g,\"interior_pixels\":%d,\"noise\":%.6g,"
+                     "\"low_frequency_rel_l2\":%.6g,\"silhouette_band\":{%s}}",
+                     object, e->coverage_mismatch, e->mean_ratio, e->interior_pixels, e->noise,
+                     e->low_frequency_rel_l2, band);
     return n < 0 || (size_t)n >= cap ? -1 : n;
 }

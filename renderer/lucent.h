@@ -190,10 +190,18 @@ typedef struct lucent_error_measures {
     double rel_l2, mean_abs, max_abs, p99_rel, share_over_10pct;
 } lucent_error_measures;
 
+/* The whole object's error split by what a viewer sees, over the interior: covered pixels whose 5x5
+ * neighbourhood is covered in both images (silhouettes, where coverage differs, are left out).
+ * noise = ||hp(test) - hp(ref)|| / ||ref|| with hp(x) = x - box3x3(x): speckle; low_frequency_rel_l2
+ * = ||box5x5(test) - box5x5(ref)|| / ||box5x5(ref)||: what survives a small blur (missing light,
+ * seams). mean_ratio = summed RGB of test / of ref over every pixel covered in both (the energy;
+ * 0 where the reference is black). */
 typedef struct lucent_image_error {
     lucent_error_measures object;   /* every pixel covered in both images */
     lucent_error_measures band;     /* the silhouette band */
     int coverage_mismatch;          /* pixels covered in one image only */
+    int interior_pixels;            /* the pixels noise and low_frequency_rel_l2 are taken over */
+    double noise, low_frequency_rel_l2, mean_ratio;
 } lucent_image_error;
 
 lucent_status lucent_image_compare(const lucent_image *test, const lucent_image *ref, lucent_image_error *out,

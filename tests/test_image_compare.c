@@ -1,22 +1,32 @@
 /* test_image_compare.c - the error measures on images whose error is known by construction: equal
- * images, a uniform 20% gain, an error confined to the silhouette band, coverage differences. */
+ * images, a uniform 20% gain, an error confined to the silhouette band, coverage differences; and the
+ * frequency split (noise, low frequencies, mean ratio) on a smooth quadratic image, whose box means
+ * are known in closed form, perturbed by a gain, a checkerboard and a linear ramp. */
 #include "test_support.h"
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #define W 40
 #define H 30
+
+/* A W x H image with AOVs, zeroed; the run ends here if it cannot be made, since no check could run. */
+static void alloc_image(lucent_image *img)
+{
+    lucent_error err = {0};
+    if (lucent_image_alloc(img, W, H, 1, &err) != LUCENT_OK) {
+        printf("FAIL alloc: %s\n", err.message);
+        exit(1);
+    }
+}
 
 /* A covered disc of radiance (1, 0.5, 0.25); facing falls to 0 at the rim, so the outer ring is
  * the silhouette band. */
 static void make_reference(lucent_image *img)
 {
-    lucent_error err = {0};
-    if (lucent_image_alloc(img, W, H, 1, &err) != LUCENT_OK) {
-        printf("FAIL alloc: %s\n", err.message);
-        return;
-    }
+    alloc_image(img);
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++) {
             double dx = (x + 0.5 - W / 2.0) / 14.0, dy = (y + 0.5 - H / 2.0) / 14.0, d2 = dx * dx + dy * dy;
@@ -32,13 +42,166 @@ static void make_reference(lucent_image *img)
 
 static void copy_image(const lucent_image *src, lucent_image *dst)
 {
-    lucent_error err = {0};
-    lucent_image_alloc(dst, src->width, src->height, 1, &err);
+    alloc_image(dst);
     for (int i = 0; i < src->width * src->height; i++) {
         for (int c = 0; c < 4; c++)
             dst->rgba[i * 4 + c] = src->rgba[i * 4 + c];
         dst->facing[i] = src->facing[i];
     }
+}
+
+/* The smooth image: covered on the rectangle [X0, X1) x [Y0, Y1), channel c = A[c] + B q(x, y) with
+ * q = (x - W/2)^2 + (y - H/2)^2. Over a box of half-width r, the mean of (x - W/2)^2 is itself plus
+ * 2/3 (r = 1) or 2 (r = 2), so box3x3(image) = image + 4B/3 and box5x5(image) = image + 4B. */
+#define X0 3
+#define X1 37
+#define Y0 4
+#define Y1 26
+#define B 0.002
+static const double A[3] = {0.6, 0.3, 0.15};
+/* Pixels whose 5x5 neighbourhood lies in the rectangle. */
+#define INTERIOR ((X1 - X0 - 4) * (Y1 - Y0 - 4))
+
+static double smooth_value(int c, int x, int y)
+{
+    double dx = x - W / 2, dy = y - H / 2;
+    return A[c] + B * (dx * dx + dy * dy);
+}
+
+static int in_rectangle(int x, int y)
+{
+    return x >= X0 && x < X1 && y >= Y0 && y < Y1;
+}
+
+static int in_interior(int x, int y)
+{
+    return x >= X0 + 2 && x < X1 - 2 && y >= Y0 + 2 && y < Y1 - 2;
+}
+
+static void make_smooth(lucent_image *img)
+{
+    alloc_image(img);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            if (in_rectangle(x, y)) {
+                float *p = &img->rgba[((size_t)y * W + x) * 4];
+                for (int c = 0; c < 3; c++)
+                    p[c] = (float)smooth_value(c, x, y);
+                p[3] = 1.0f;
+            }
+}
+
+/* test = ref + amount(x, y) on every covered pixel and channel. */
+static void perturb(const lucent_image *ref, lucent_image *test, double (*amount)(int x, int y))
+{
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            for (int c = 0; c < 3 && in_rectangle(x, y); c++) {
+                size_t i = ((size_t)y * W + x) * 4 + c;
+                test->rgba[i] = (float)(ref->rgba[i] + amount(x, y));
+            }
+}
+
+#define CHECKER 0.01
+#define RAMP 0.005
+static double checker(int x, int y)
+{
+    return (x + y) % 2 ? -CHECKER : CHECKER;
+}
+
+static double ramp(int x, int y)
+{
+    (void)y;
+    return RAMP * (x - X0);
+}
+
+/* Closed-form sums over the interior: ||ref||^2, ||box5x5(ref)||^2 and ||ramp||^2, over RGB. */
+struct interior_sums {
+    double ref2, low_ref2, ramp2;
+};
+
+static struct interior_sums interior_sums(void)
+{
+    struct interior_sums s = {0};
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            for (int c = 0; c < 3 && in_interior(x, y); c++) {
+                double f = smooth_value(c, x, y);
+                s.ref2 += f * f;
+                s.low_ref2 += (f + 4 * B) * (f + 4 * B);
+                s.ramp2 += ramp(x, y) * ramp(x, y);
+            }
+    return s;
+}
+
+static int near(double measured, double expected, double rel_tol)
+{
+    return fabs(measured - expected) <= rel_tol * fabs(expected);
+}
+
+static void check_frequencies(void)
+{
+    lucent_image ref, test;
+    lucent_image_error e;
+    lucent_error err = {0};
+    make_smooth(&ref);
+    copy_image(&ref, &test);
+    const struct interior_sums s = interior_sums();
+    const double n3 = 3.0 * INTERIOR;
+
+    lucent_image_compare(&test, &ref, &e, &err);
+    test_check(e.interior_pixels == INTERIOR && e.noise == 0.0 && e.low_frequency_rel_l2 == 0.0 && e.mean_ratio == 1.0,
+               "smooth, identical: %d interior pixels (expected %d), noise %g, low-frequency %g (both expected 0), "
+               "mean ratio %g (expected 1)",
+               e.interior_pixels, INTERIOR, e.noise, e.low_frequency_rel_l2, e.mean_ratio);
+
+    /* hp(1.2 ref) - hp(ref) = 0.2 hp(ref) = -0.2 * 4B/3 in every channel of every interior pixel. */
+    for (int i = 0; i < W * H * 4; i++)
+        if (i % 4 != 3)
+            test.rgba[i] = ref.rgba[i] * 1.2f;
+    lucent_image_compare(&test, &ref, &e, &err);
+    double noise = 0.2 * (4 * B / 3) * sqrt(n3 / s.ref2);
+    test_check(near(e.mean_ratio, 1.2, 1e-6) && near(e.low_frequency_rel_l2, 0.2, 1e-6) && near(e.noise, noise, 1e-3),
+               "smooth, 20%% gain: mean ratio %.7f (1.2 +-1e-6 rel), low-frequency %.7f (0.2 +-1e-6 rel), noise %.6g "
+               "(%.6g = 0.2 ||hp(ref)|| / ||ref||, +-1e-3 rel)",
+               e.mean_ratio, e.low_frequency_rel_l2, e.noise, noise);
+
+    /* A checkerboard's 3x3 box mean is 1/9 of it and its 5x5 one 1/25 (one cell more of the centre's sign). */
+    perturb(&ref, &test, checker);
+    lucent_image_compare(&test, &ref, &e, &err);
+    noise = 8.0 / 9.0 * CHECKER * sqrt(n3 / s.ref2);
+    double low = CHECKER / 25.0 * sqrt(n3 / s.low_ref2);
+    test_check(near(e.noise, noise, 1e-3) && near(e.low_frequency_rel_l2, low, 1e-3) && near(e.mean_ratio, 1.0, 1e-6),
+               "checkerboard +-%g: noise %.6g (%.6g +-1e-3 rel), low-frequency %.6g (%.6g, 1/22 of the noise, "
+               "+-1e-3 rel), mean ratio %.7f (1 +-1e-6: it cancels over the even rectangle)",
+               CHECKER, e.noise, noise, e.low_frequency_rel_l2, low, e.mean_ratio);
+
+    /* A linear ramp passes both box filters unchanged: no high-pass part at all. */
+    perturb(&ref, &test, ramp);
+    lucent_image_compare(&test, &ref, &e, &err);
+    low = sqrt(s.ramp2 / s.low_ref2);
+    test_check(e.noise < 1e-5 && near(e.low_frequency_rel_l2, low, 1e-3) && e.mean_ratio > 1.05,
+               "ramp %g a pixel: noise %.3g (< 1e-5), low-frequency %.6g (%.6g +-1e-3 rel), mean ratio %.4f (> 1.05)",
+               RAMP, e.noise, e.low_frequency_rel_l2, low, e.mean_ratio);
+
+    /* Radiance behind uncovered pixels must not leak into any box: a pixel uncovered in the test only
+     * takes its 5x5 neighbourhood out of the interior; one covered in the test only counts nowhere. */
+    lucent_image_free(&test);
+    copy_image(&ref, &test);
+    size_t centre = (size_t)(H / 2) * W + W / 2;
+    test.rgba[centre * 4 + 3] = 0.0f;
+    for (size_t i = 0; i < (size_t)W * H; i++)
+        if (test.rgba[i * 4 + 3] == 0.0f)
+            test.rgba[i * 4] = 100.0f;
+    test.rgba[(W + 1) * 4 + 3] = 1.0f;
+    lucent_image_compare(&test, &ref, &e, &err);
+    test_check(e.interior_pixels == INTERIOR - 25 && e.noise == 0.0 && e.low_frequency_rel_l2 == 0.0 &&
+                   e.mean_ratio == 1.0,
+               "radiance 100 behind uncovered pixels, centre uncovered and (1,1) covered in the test only: %d "
+               "interior pixels (expected %d), noise %g, low-frequency %g (expected 0), mean ratio %g (expected 1)",
+               e.interior_pixels, INTERIOR - 25, e.noise, e.low_frequency_rel_l2, e.mean_ratio);
+    lucent_image_free(&test);
+    lucent_image_free(&ref);
 }
 
 int main(void)
@@ -84,7 +247,11 @@ int main(void)
     test_check(e.coverage_mismatch == 2, "coverage differs in %d pixels (2 made)", e.coverage_mismatch);
 
     char json[1024];
-    test_check(lucent_image_error_json(&e, json, sizeof json) > 0 && json[0] == '{', "JSON: %s", json);
+    test_check(lucent_image_error_json(&e, json, sizeof json) > 0 && json[0] == '{' && strstr(json, "\"noise\":") &&
+                   strstr(json, "\"low_frequency_rel_l2\":") && strstr(json, "\"mean_ratio\":") &&
+                   strstr(json, "\"interior_pixels\":") && strstr(json, "\"rel_l2\":"),
+               "JSON has the old and the new keys: %s", json);
+    check_frequencies();
 
     lucent_image small = {0};
     lucent_image_alloc(&small, 8, 8, 0, &err);

@@ -1,5 +1,5 @@
 /* bench_trade.c - the measured speed/accuracy trade: every fast mode timed warm and scored against method
- * "reference" over 4 meshes x 3 lights x 4 materials x 2 sizes; writes CSV, Markdown and a plot table. */
+ * "reference" over 5 meshes x 3 lights x 4 materials x 2 sizes; writes CSV, Markdown and a plot table. */
 #include "bench_median.h"
 #include "lucent.h"
 
@@ -12,7 +12,8 @@
 
 struct mesh_case {
     const char *name;
-    const char *json;  /* mesh object; NULL: the OBJ named on the command line */
+    const char *json;    /* mesh object; NULL: an OBJ file (options.mesh_file) */
+    const char *camera;  /* scene fragment; NULL: the default camera, from +Z */
 };
 struct light_case {
     const char *name;
@@ -26,12 +27,28 @@ struct mode {
     int single_scattering;
 };
 
-enum { MESH_SPHERE, MESH_TORUS, MESH_PROTRUSION, MESH_BUNNY };
+/* The cube is seen from above its front-right corner, so the camera sees its +X, +Y and +Z faces and
+ * the edges between them. Every light below strikes exactly one face head-on (front: +Z, side: +X,
+ * back: the hidden -Z) and leaves the others unlit, so what those show is light diffused around an
+ * edge from a neighbouring face, which an image-space method finds only by crossing views. */
+enum { MESH_SPHERE, MESH_TORUS, MESH_PROTRUSION, MESH_BUNNY, MESH_CUBE, MESH_COUNT };
 enum { LIGHT_FRONT, LIGHT_SIDE, LIGHT_BACK };
-static const struct mesh_case meshes[] = {[MESH_SPHERE] = {"sphere", "{\"builtin\":\"sphere\"}"},
-                                          [MESH_TORUS] = {"torus", "{\"builtin\":\"torus\"}"},
-                                          [MESH_PROTRUSION] = {"protrusion", "{\"builtin\":\"protrusion\"}"},
-                                          [MESH_BUNNY] = {"bunny", NULL}};
+static const struct mesh_case meshes[] = {
+    [MESH_SPHERE] = {"sphere", "{\"builtin\":\"sphere\"}", NULL},
+    [MESH_TORUS] = {"torus", "{\"builtin\":\"torus\"}", NULL},
+    [MESH_PROTRUSION] = {"protrusion", "{\"builtin\":\"protrusion\"}", NULL},
+    [MESH_BUNNY] = {"bunny", NULL, NULL},
+    [MESH_CUBE] = {"cube", NULL, "\"camera\":{\"position\":[1.6,1.2,2.0],\"target\":[0,0,0]},"},
+};
+
+/* The unit cube centred on the origin, wound outward; each face names its own normal, so the
+ * importer keeps the faces' vertices apart and the normals flat (no smoothing across the edges). */
+static const char cube_obj[] = "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv 0.5 0.5 -0.5\nv -0.5 0.5 -0.5\n"
+                               "v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n"
+                               "vn 1 0 0\nvn -1 0 0\nvn 0 1 0\nvn 0 -1 0\nvn 0 0 1\nvn 0 0 -1\n"
+                               "f 2//1 3//1 7//1\nf 2//1 7//1 6//1\nf 1//2 5//2 8//2\nf 1//2 8//2 4//2\n"
+                               "f 4//3 8//3 7//3\nf 4//3 7//3 3//3\nf 1//4 2//4 6//4\nf 1//4 6//4 5//4\n"
+                               "f 5//5 6//5 7//5\nf 5//5 7//5 8//5\nf 1//6 4//6 3//6\nf 1//6 3//6 2//6\n";
 static const struct light_case lights[] = {[LIGHT_FRONT] = {"front", "[0,0,-1]"},
                                            [LIGHT_SIDE] = {"side", "[-1,0,0]"},
                                            [LIGHT_BACK] = {"back", "[0,0,1]"}};
@@ -58,7 +75,9 @@ enum { MODES = (int)N(modes), CASES_PER_SIZE = (int)(N(meshes) * N(lights) * N(m
 enum { T_TOTAL, T_SHADOW, T_PROJECTION, T_GBUFFER, T_SCATTER, T_READBACK, T_COUNT };
 
 struct options {
-    const char *bunny, *prefix;
+    const char *prefix;
+    const char *mesh_file[MESH_COUNT];  /* the meshes given as files: the bunny, and the cube written here */
+    char cube_path[4096];
     int frames, size_count;
 };
 
@@ -71,12 +90,13 @@ struct result {
     lucent_image_error e;
 };
 
-/* One mode at one size, summarized over every case. */
+/* One mode at one size, summarized over every case (medians). */
 struct summary {
-    double ms, rel_l2, band_rel_l2;
+    double ms, rel_l2, band_rel_l2, noise, low_frequency_rel_l2, mean_ratio;
     int worst, worst_band;  /* case indices */
     int pareto;
 };
+enum { SUMMARY_MEDIANS = 6 };
 
 struct outputs {
     FILE *csv, *md, *tsv;
@@ -108,7 +128,8 @@ static void case_label(int index, char *buf, size_t cap)
 static int usage(void)
 {
     fprintf(stderr, "usage: bench_trade [--quick] [--frames F] BUNNY.obj OUT_PREFIX\n"
-                    "  writes OUT_PREFIX.csv, OUT_PREFIX.md and OUT_PREFIX_summary.tsv (for plot_trade.sh);\n"
+                    "  writes OUT_PREFIX.csv, OUT_PREFIX.md, OUT_PREFIX_summary.tsv (for plot_trade.sh) and\n"
+                    "  OUT_PREFIX_cube.obj (the cube it renders);\n"
                     "  --quick: 256x256 only (default 256 and 512); F: timed warm frames per mode (default 5)\n");
     return 2;
 }
@@ -127,7 +148,7 @@ static int parse_options(int argc, char **argv, struct options *o)
                 return -1;
             o->frames = (int)f;
         } else if (positional == 0) {
-            o->bunny = argv[i], positional++;
+            o->mesh_file[MESH_BUNNY] = argv[i], positional++;
         } else if (positional == 1) {
             o->prefix = argv[i], positional++;
         } else {
@@ -137,24 +158,25 @@ static int parse_options(int argc, char **argv, struct options *o)
     return positional == 2 ? 0 : -1;
 }
 
-/* The scene of one case with the given fragment ("method" and knobs); the bunny's path is set after
+/* The scene of one case with the given fragment ("method" and knobs); a mesh file's path is set after
  * parsing so no path needs JSON escaping. */
 static lucent_status make_scene(const struct options *o, struct case_id c, const char *fragment, lucent_scene *s,
                                 lucent_error *err)
 {
-    const char *mesh = meshes[c.mesh].json ? meshes[c.mesh].json : "{\"builtin\":\"sphere\"}";
+    const struct mesh_case *m = &meshes[c.mesh];
     char json[1024];
     int n = snprintf(json, sizeof json,
                      "{\"mesh\":%s,\"material\":{\"preset\":\"%s\"},\"lights\":[{\"direction\":%s,\"intensity\":3}],"
-                     "\"width\":%d,\"height\":%d,%s}",
-                     mesh, materials[c.material], lights[c.light].direction, sizes[c.size], sizes[c.size], fragment);
+                     "\"width\":%d,\"height\":%d,%s%s}",
+                     m->json ? m->json : "{\"builtin\":\"sphere\"}", materials[c.material], lights[c.light].direction,
+                     sizes[c.size], sizes[c.size], m->camera ? m->camera : "", fragment);
     if (n < 0 || (size_t)n >= sizeof json)
         return lucent_fail(err, LUCENT_E_INTERNAL, "", "scene document too long");
     lucent_status st = lucent_scene_parse(json, (size_t)n, 1, s, err);
-    if (st != LUCENT_OK || meshes[c.mesh].json)
+    if (st != LUCENT_OK || m->json)
         return st;
     s->mesh.source = LUCENT_MESH_FILE;
-    snprintf(s->mesh.file, sizeof s->mesh.file, "%s", o->bunny);
+    snprintf(s->mesh.file, sizeof s->mesh.file, "%s", o->mesh_file[c.mesh]);
     return LUCENT_OK;
 }
 
@@ -198,12 +220,13 @@ static void write_csv_row(FILE *csv, int index, int mode, const struct result *x
     const lucent_image_error *e = &x->e;
     fprintf(csv,
             "%s,%s,%s,%d,%s,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.6g,%.6g,%.6g,%.6g,"
-            "%.6g\n",
+            "%.6g,%.6g,%d,%.6g,%.6g\n",
             meshes[c.mesh].name, lights[c.light].name, materials[c.material], sizes[c.size], modes[mode].name,
             x->ms[T_TOTAL], x->ms[T_SHADOW], x->ms[T_PROJECTION], x->ms[T_GBUFFER], x->ms[T_SCATTER],
             x->ms[T_READBACK], e->object.pixels, e->coverage_mismatch, e->object.rel_l2, e->object.mean_abs,
             e->object.max_abs, e->object.p99_rel, e->object.share_over_10pct, e->band.pixels, e->band.rel_l2,
-            e->band.mean_abs, e->band.max_abs, e->band.p99_rel, e->band.share_over_10pct);
+            e->band.mean_abs, e->band.max_abs, e->band.p99_rel, e->band.share_over_10pct, e->mean_ratio,
+            e->interior_pixels, e->noise, e->low_frequency_rel_l2);
 }
 
 static int any_single_scattering(void)
@@ -267,16 +290,20 @@ static struct summary summarize(const struct result *res, int size, int mode, do
     struct summary s = {0};
     int first = case_index(size, 0, 0, 0);
     s.worst = s.worst_band = first;
-    double *v[3] = {scratch, scratch + CASES_PER_SIZE, scratch + 2 * CASES_PER_SIZE};
+    double *v[SUMMARY_MEDIANS];
+    for (int k = 0; k < SUMMARY_MEDIANS; k++)
+        v[k] = scratch + k * CASES_PER_SIZE;
     for (int i = 0; i < CASES_PER_SIZE; i++) {
         const struct result *x = &res[(first + i) * MODES + mode];
         v[0][i] = x->ms[T_TOTAL], v[1][i] = x->e.object.rel_l2, v[2][i] = x->e.band.rel_l2;
+        v[3][i] = x->e.noise, v[4][i] = x->e.low_frequency_rel_l2, v[5][i] = x->e.mean_ratio;
         s.worst = worse(res, first + i, s.worst, mode, 0) ? first + i : s.worst;
         s.worst_band = worse(res, first + i, s.worst_band, mode, 1) ? first + i : s.worst_band;
     }
-    s.ms = bench_median(v[0], CASES_PER_SIZE);
-    s.rel_l2 = bench_median(v[1], CASES_PER_SIZE);
-    s.band_rel_l2 = bench_median(v[2], CASES_PER_SIZE);
+    double *median[SUMMARY_MEDIANS] = {&s.ms, &s.rel_l2, &s.band_rel_l2, &s.noise, &s.low_frequency_rel_l2,
+                                       &s.mean_ratio};
+    for (int k = 0; k < SUMMARY_MEDIANS; k++)
+        *median[k] = bench_median(v[k], CASES_PER_SIZE);
     return s;
 }
 
@@ -309,15 +336,17 @@ static void emit(FILE *md, const char *fmt, ...)
 static void write_summary(const struct result *res, const struct summary *s, int size, const struct outputs *out)
 {
     char worst[128], worst_band[128];
-    emit(out->md, "\n### %dx%d\n\n| mode | median ms | median rel L2 | median band rel L2 | worst rel L2 (case) "
-                  "| worst band rel L2 (case) | Pareto |\n|---|---|---|---|---|---|---|\n",
+    emit(out->md, "\n### %dx%d\n\n| mode | median ms | median rel L2 | median band rel L2 | median noise "
+                  "| median low-frequency rel L2 | median mean ratio | worst rel L2 (case) "
+                  "| worst band rel L2 (case) | Pareto |\n|---|---|---|---|---|---|---|---|---|---|\n",
          sizes[size], sizes[size]);
     for (int m = 0; m < MODES; m++) {
         case_label(s[m].worst, worst, sizeof worst);
         case_label(s[m].worst_band, worst_band, sizeof worst_band);
-        emit(out->md, "| %s | %.1f | %.4f | %.4f | %.4f (%s) | %.4f (%s) | %s |\n", modes[m].name, s[m].ms,
-             s[m].rel_l2, s[m].band_rel_l2, res[s[m].worst * MODES + m].e.object.rel_l2, worst,
-             res[s[m].worst_band * MODES + m].e.band.rel_l2, worst_band, s[m].pareto ? "yes" : "");
+        emit(out->md, "| %s | %.1f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f (%s) | %.4f (%s) | %s |\n", modes[m].name,
+             s[m].ms, s[m].rel_l2, s[m].band_rel_l2, s[m].noise, s[m].low_frequency_rel_l2, s[m].mean_ratio,
+             res[s[m].worst * MODES + m].e.object.rel_l2, worst, res[s[m].worst_band * MODES + m].e.band.rel_l2,
+             worst_band, s[m].pareto ? "yes" : "");
         fprintf(out->tsv, "%d\t%s\t%.3f\t%.6g\t%.6g\t%d\n", sizes[size], modes[m].name, s[m].ms, s[m].rel_l2,
                 s[m].band_rel_l2, s[m].pareto);
     }
@@ -363,15 +392,42 @@ static void write_claim(const struct options *o, const struct result *res, const
         emit(out->md, "\nFive views beat one in the silhouette band in every one of these cases.\n");
 }
 
+/* The cube lit on one face, side light: the edge-crossing case, per material, for the default method
+ * and auto. */
+static void write_cube(const struct options *o, const struct result *res, const struct outputs *out)
+{
+    const int shown[] = {mode_named("five"), mode_named("auto")};
+    emit(out->md, "\n### The cube lit on one face (side light on +X; +Y and +Z lit only around the edges)\n\n"
+                  "| size | case | mode | rel L2 | band rel L2 | noise | low-frequency rel L2 | mean ratio |\n"
+                  "|---|---|---|---|---|---|---|---|\n");
+    for (int z = 0; z < o->size_count; z++)
+        for (int mat = 0; mat < (int)N(materials); mat++)
+            for (size_t k = 0; k < N(shown); k++) {
+                int i = case_index(z, MESH_CUBE, LIGHT_SIDE, mat);
+                const lucent_image_error *e = &res[i * MODES + shown[k]].e;
+                char label[128];
+                case_label(i, label, sizeof label);
+                emit(out->md, "| %d | %s | %s | %.4f | %.4f | %.4f | %.4f | %.4f |\n", sizes[z], label,
+                     modes[shown[k]].name, e->object.rel_l2, e->band.rel_l2, e->noise, e->low_frequency_rel_l2,
+                     e->mean_ratio);
+            }
+}
+
 static void write_report(const struct options *o, const struct result *res, const struct outputs *out,
                          double *scratch)
 {
+    char names[256] = "";
+    for (size_t m = 0, used = 0; m < N(meshes) && used < sizeof names; m++)
+        used += (size_t)snprintf(names + used, sizeof names - used, "%s%s", m ? ", " : "", meshes[m].name);
     emit(out->md, "## Speed/accuracy trade against method \"reference\"\n\n"
-                  "Per mode: median over %d cases (4 meshes x 3 lights x 4 materials) of the warm frame time "
-                  "(median of %d frames after 1 warm-up) and of the relative L2 error, whole object and "
-                  "silhouette band (normal 70-90 degrees from the view); worst case; on the Pareto front of "
-                  "(median ms, median rel L2).\n",
-         CASES_PER_SIZE, o->frames);
+                  "Per mode: median over %d cases (%d meshes: %s; x %d lights x %d materials) of the warm frame "
+                  "time (median of %d frames after 1 warm-up), of the relative L2 error, whole object and "
+                  "silhouette band (normal 70-90 degrees from the view), of the noise (high-pass error "
+                  "||hp(test) - hp(ref)|| / ||ref||, hp = x - box3x3(x)), the low-frequency error (relative L2 "
+                  "of both images blurred by a 5x5 box) and the mean ratio (test's mean radiance over the "
+                  "reference's); worst case; on the Pareto front of (median ms, median rel L2). The cube is "
+                  "seen from above its front-right corner (+X, +Y, +Z faces), each light striking one face.\n",
+         CASES_PER_SIZE, (int)N(meshes), names, (int)N(lights), (int)N(materials), o->frames);
     fprintf(out->tsv, "size\tmode\tms\trel_l2\tband_rel_l2\tpareto\n");
     for (int z = 0; z < o->size_count; z++) {
         struct summary s[MODES];
@@ -381,6 +437,7 @@ static void write_report(const struct options *o, const struct result *res, cons
         write_summary(res, s, z, out);
     }
     write_claim(o, res, out);
+    write_cube(o, res, out);
 }
 
 static int open_outputs(const char *prefix, struct outputs *out)
@@ -397,7 +454,8 @@ static int open_outputs(const char *prefix, struct outputs *out)
     }
     fprintf(out->csv, "scene,light,material,size,mode,ms,ms_shadow,ms_projection,ms_gbuffer,ms_scatter,ms_readback,"
                       "pixels,coverage_mismatch,rel_l2,mean_abs,max_abs,p99_rel,share_over_10pct,band_pixels,"
-                      "band_rel_l2,band_mean_abs,band_max_abs,band_p99_rel,band_share_over_10pct\n");
+                      "band_rel_l2,band_mean_abs,band_max_abs,band_p99_rel,band_share_over_10pct,mean_ratio,"
+                      "interior_pixels,noise,low_frequency_rel_l2\n");
     return 0;
 }
 
@@ -423,8 +481,32 @@ static int run(lucent_renderer *r, const struct options *o, struct result *res, 
                     err.field[0] ? ": " : "", err.message);
             return -1;
         }
-    double scratch[3 * CASES_PER_SIZE];
+    double scratch[SUMMARY_MEDIANS * CASES_PER_SIZE];
     write_report(o, res, out, scratch);
+    return 0;
+}
+
+/* Writes the cube's OBJ beside the outputs (kept: it is the mesh the report's cube rows rendered). */
+static int write_cube_obj(struct options *o)
+{
+    snprintf(o->cube_path, sizeof o->cube_path, "%s_cube.obj", o->prefix);
+    FILE *f = fopen(o->cube_path, "w");
+    if (!f || fputs(cube_obj, f) == EOF || fclose(f) != 0) {
+        perror(o->cube_path);
+        return -1;
+    }
+    o->mesh_file[MESH_CUBE] = o->cube_path;
+    return 0;
+}
+
+/* 0 when every mesh file's path fits the scene's mesh reference. */
+static int check_paths(const struct options *o)
+{
+    for (int m = 0; m < MESH_COUNT; m++)
+        if (o->mesh_file[m] && strlen(o->mesh_file[m]) >= sizeof(((lucent_mesh_ref *)0)->file)) {
+            fprintf(stderr, "bench_trade: mesh path too long: %s\n", o->mesh_file[m]);
+            return -1;
+        }
     return 0;
 }
 
@@ -433,10 +515,8 @@ int main(int argc, char **argv)
     struct options o;
     if (parse_options(argc, argv, &o) != 0)
         return usage();
-    if (strlen(o.bunny) >= sizeof(((lucent_mesh_ref *)0)->file)) {
-        fprintf(stderr, "bench_trade: mesh path too long: %s\n", o.bunny);
+    if (write_cube_obj(&o) != 0 || check_paths(&o) != 0)
         return 2;
-    }
     struct outputs out = {0};
     struct result *res = calloc((size_t)o.size_count * CASES_PER_SIZE * MODES, sizeof *res);
     lucent_error err = {0};
