@@ -1,6 +1,6 @@
 /* frame_record.c - turns a frame plan into commands. Pass order matters: shadow maps feed the
- * projection images, which with the G-buffer feed the scatter pass; render-pass dependencies and
- * the barriers around the side-image copy carry the data between them. */
+ * projection images (and their mip chain), which with the G-buffer feed the scatter pass; render-pass
+ * dependencies and the barriers around the side-image copy and the mip blits carry the data between them. */
 #include "frame_record.h"
 
 #include <string.h>
@@ -108,6 +108,64 @@ static void copy_sides(const struct frame_gpu *gpu)
                          NULL, 0, NULL, 1, &b);
 }
 
+static VkImageMemoryBarrier projection_barrier(const struct render_targets *t, uint32_t level, uint32_t levels,
+                                              VkImageLayout from, VkImageLayout to, VkAccessFlags src,
+                                              VkAccessFlags dst)
+{
+    return (VkImageMemoryBarrier){.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER, .srcAccessMask = src,
+                                  .dstAccessMask = dst, .oldLayout = from, .newLayout = to,
+                                  .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                                  .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED, .image = t->projection.image,
+                                  .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, level, levels, 0, FRAME_MAX_VIEWS}};
+}
+
+/* Level i of a layer is the 2x2 mean of level i-1: flux per unit of image area, averaged, so a texel
+ * of level i holds the mean of the 4^i texels it covers (uncovered ones add no flux). The side views
+ * fill a side_size^2 corner of their layers, and only that corner is reduced: what lies outside it is
+ * never written and never read. The depth in alpha is averaged too; the scatter pass reads depth
+ * from level 0 only. */
+static void blit_level(VkCommandBuffer cmd, const struct render_targets *t, uint32_t level, uint32_t size,
+                       uint32_t first, uint32_t layers)
+{
+    int32_t src = (int32_t)(size >> (level - 1)), dst = (int32_t)(size >> level);
+    VkImageBlit blit = {.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level - 1, first, layers},
+                        .srcOffsets = {{0, 0, 0}, {src, src, 1}},
+                        .dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level, first, layers},
+                        .dstOffsets = {{0, 0, 0}, {dst, dst, 1}}};
+    vkCmdBlitImage(cmd, t->projection.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, t->projection.image,
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
+}
+
+static void record_mips(const struct frame_gpu *gpu, int five)
+{
+    VkCommandBuffer cmd = gpu->ctx->cmd;
+    const struct render_targets *t = gpu->targets;
+    VkPipelineStageFlags drawn = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+    VkAccessFlags written = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    VkImageMemoryBarrier b = projection_barrier(t, 0, 1, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                                VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, written, VK_ACCESS_TRANSFER_READ_BIT);
+    vkCmdPipelineBarrier(cmd, drawn, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0, NULL, 1, &b);
+    for (uint32_t level = 1; level < t->projection.levels; level++) {
+        b = projection_barrier(t, level, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                               VK_ACCESS_SHADER_READ_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL,
+                             0, NULL, 1, &b);
+        blit_level(cmd, t, level, t->projection_size, 0, 1);
+        if (five && t->side_size >> level)
+            blit_level(cmd, t, level, t->side_size, 1, SIDE_VIEWS);
+        b = projection_barrier(t, level, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                               VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0,
+                             NULL, 1, &b);
+    }
+    b = projection_barrier(t, 0, t->projection.levels, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                           VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
+                           VK_ACCESS_SHADER_READ_BIT);
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL, 0,
+                         NULL, 1, &b);
+}
+
 static void record_gbuffer(const struct frame_gpu *gpu, const struct frame_plan *plan,
                            const struct gpu_geometry *g, int cull)
 {
@@ -177,6 +235,7 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
         record_projection_pass(gpu, PROJECTION_SIDES, side_mesh, sides);
         copy_sides(gpu);
     }
+    record_mips(gpu, five);
     stamp(gpu, TS_PROJECTION);
     record_gbuffer(gpu, plan, &gm->full, cull_camera);
     stamp(gpu, TS_GBUFFER);

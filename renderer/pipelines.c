@@ -217,13 +217,13 @@ static lucent_status make_layouts(struct vk_context *ctx, struct pipelines *p, l
     return LUCENT_OK;
 }
 
-static lucent_status make_sampler(struct vk_context *ctx, int compare, VkSampler *out, lucent_error *err)
+static lucent_status make_sampler(struct vk_context *ctx, int compare, VkFilter filter, VkSampler *out,
+                                  lucent_error *err)
 {
     lucent_status st = LUCENT_OK;
-    VkFilter filter = compare ? VK_FILTER_LINEAR : VK_FILTER_NEAREST;
     VkSamplerCreateInfo ci = {.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
                               .magFilter = filter, .minFilter = filter,
-                              .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
+                              .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST, .maxLod = VK_LOD_CLAMP_NONE,
                               .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
                               .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
                               .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
@@ -243,8 +243,9 @@ lucent_status pipelines_create(struct vk_context *ctx, struct pipelines *p, luce
         (st = make_render_pass(ctx, 1, PROJECTION_FORMAT, 0, (1u << SIDE_VIEWS) - 1, 1,
                                &p->projection_pass[PROJECTION_SIDES], err)) ||
         (st = make_render_pass(ctx, 2, GBUFFER_FORMAT, 0, 0, 0, &p->gbuffer_pass, err)) ||
-        (st = make_layouts(ctx, p, err)) || (st = make_sampler(ctx, 0, &p->nearest, err)) ||
-        (st = make_sampler(ctx, 1, &p->shadow_compare, err)))
+        (st = make_layouts(ctx, p, err)) || (st = make_sampler(ctx, 0, VK_FILTER_NEAREST, &p->nearest, err)) ||
+        (st = make_sampler(ctx, 0, VK_FILTER_LINEAR, &p->filtered, err)) ||
+        (st = make_sampler(ctx, 1, VK_FILTER_LINEAR, &p->shadow_compare, err)))
         goto fail;
 
     for (int cull = 0; cull < 2; cull++) {
@@ -326,6 +327,7 @@ void pipelines_destroy(struct vk_context *ctx, struct pipelines *p)
     for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++)
         vkDestroyRenderPass(d, passes[i], NULL);
     vkDestroySampler(d, p->nearest, NULL);
+    vkDestroySampler(d, p->filtered, NULL);
     vkDestroySampler(d, p->shadow_compare, NULL);
     memset(p, 0, sizeof *p);
 }

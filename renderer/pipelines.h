@@ -40,6 +40,7 @@ struct pipelines {
     VkPipeline projection[PROJECTION_VARIANTS];
     VkPipeline scatter[SCATTER_VARIANTS];
     VkSampler nearest;
+    VkSampler filtered;         /* bilinear within a mip level, for the prefiltered projection images */
     VkSampler shadow_compare;   /* depth comparison with 2x2 filtering (PCF) */
 };
 

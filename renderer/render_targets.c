@@ -2,6 +2,8 @@
  * Everything here is owned by struct render_targets and freed by render_targets_destroy. */
 #include "render_targets.h"
 
+#include "vk_device.h"
+
 #include <string.h>
 
 static lucent_status make_framebuffer(struct vk_context *ctx, VkRenderPass pass, const VkImageView *views,
@@ -32,16 +34,38 @@ static lucent_status make_shadow_maps(struct vk_context *ctx, const struct pipel
     return st;
 }
 
+/* The projection images' mip chain is made by linear blits and read with linear filtering. */
+static lucent_status check_projection_format(struct vk_context *ctx, lucent_error *err)
+{
+    VkFormatProperties props;
+    vkGetPhysicalDeviceFormatProperties(ctx->shared->physical, PROJECTION_FORMAT, &props);
+    VkFormatFeatureFlags need = VK_FORMAT_FEATURE_BLIT_SRC_BIT | VK_FORMAT_FEATURE_BLIT_DST_BIT |
+                                VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
+    if ((props.optimalTilingFeatures & need) != need)
+        return lucent_fail(err, LUCENT_E_VULKAN, "", "device %s cannot blit and linearly filter "
+                           "VK_FORMAT_R32G32B32A32_SFLOAT (the projection images' mip chain)", ctx->device_name);
+    return LUCENT_OK;
+}
+
+static uint32_t mip_levels(uint32_t size)
+{
+    uint32_t levels = 1;
+    while (size >> levels)
+        levels++;
+    return levels;
+}
+
 static lucent_status make_projection(struct vk_context *ctx, const struct pipelines *p,
                                      struct render_targets *t, lucent_error *err)
 {
     uint32_t s = t->projection_size, side = t->side_size;
     VkImageUsageFlags depth = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
     lucent_status st;
-    if ((st = vk_image_create(ctx, s, s, FRAME_MAX_VIEWS, PROJECTION_FORMAT,
-                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
-                                  VK_IMAGE_USAGE_TRANSFER_DST_BIT,
-                              &t->projection, err)) ||
+    if ((st = check_projection_format(ctx, err)) ||
+        (st = vk_image_create_mipped(ctx, s, s, FRAME_MAX_VIEWS, mip_levels(s), PROJECTION_FORMAT,
+                                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                                         VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                                     &t->projection, err)) ||
         (st = vk_image_layer_view(ctx, &t->projection, 0, &t->front_layer, err)) ||
         (st = vk_image_create(ctx, s, s, 1, DEPTH_FORMAT, depth, &t->front_depth, err)) ||
         (st = vk_image_create(ctx, side, side, SIDE_VIEWS, PROJECTION_FORMAT,
@@ -107,7 +131,7 @@ static lucent_status make_descriptor_sets(struct vk_context *ctx, const struct p
     VkDescriptorBufferInfo ubo = {uniforms->buffer, 0, VK_WHOLE_SIZE};
     VkImageLayout ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     VkDescriptorImageInfo shadow = {p->shadow_compare, t->shadow_depth.view, ro};
-    VkDescriptorImageInfo images[3] = {{p->nearest, t->projection.view, ro},
+    VkDescriptorImageInfo images[3] = {{p->filtered, t->projection.view, ro},
                                        {p->nearest, t->gbuffer_position.view, ro},
                                        {p->nearest, t->gbuffer_normal.view, ro}};
     VkDeviceSize pixels = (VkDeviceSize)t->width * t->height;
@@ -132,20 +156,20 @@ fail:
     return st;
 }
 
-static VkImageMemoryBarrier to_shader_read(VkImage image, VkImageAspectFlags aspect, uint32_t first,
-                                           uint32_t count)
+static VkImageMemoryBarrier to_shader_read(VkImage image, VkImageAspectFlags aspect, uint32_t levels,
+                                           uint32_t first, uint32_t count)
 {
     return (VkImageMemoryBarrier){.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
                                   .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
                                   .newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                                   .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
                                   .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED, .image = image,
-                                  .subresourceRange = {aspect, 0, 1, first, count},
+                                  .subresourceRange = {aspect, 0, levels, first, count},
                                   .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};
 }
 
-/* Shadow layers and side images that no frame has drawn yet are still bound for sampling: give
- * them a valid layout. */
+/* Shadow layers, side images and mip levels that no frame has drawn yet are still bound for
+ * sampling: give them a valid layout. */
 static lucent_status prepare_layouts(struct vk_context *ctx, struct render_targets *t, lucent_error *err)
 {
     lucent_status st = LUCENT_OK;
@@ -153,8 +177,8 @@ static lucent_status prepare_layouts(struct vk_context *ctx, struct render_targe
                                    .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     VK_TRY(vkBeginCommandBuffer(ctx->cmd, &bi), err);
     VkImageMemoryBarrier b[2] = {
-        to_shader_read(t->shadow_depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, 0, LUCENT_MAX_LIGHTS),
-        to_shader_read(t->projection.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, SIDE_VIEWS)};
+        to_shader_read(t->shadow_depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, 1, 0, LUCENT_MAX_LIGHTS),
+        to_shader_read(t->projection.image, VK_IMAGE_ASPECT_COLOR_BIT, t->projection.levels, 0, FRAME_MAX_VIEWS)};
     vkCmdPipelineBarrier(ctx->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
                          VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL,
                          0, NULL, 2, b);

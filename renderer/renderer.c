@@ -221,8 +221,9 @@ static void describe(const lucent_scene *requested, const lucent_scene *s, const
              shared ? "shared" : "per_channel", samples ? (shared ? samples : 3 * samples) : 1, s->projection_size,
              plan->view_count > 1 ? plan->side_projection_size : 0, plan->scale_mm, lights,
              gpu_mesh_geometry(gm, PROXY_FRONT)->index_count / 3, gpu_mesh_geometry(gm, PROXY_SIDES)->index_count / 3,
-             plan->view_count == 1 || s->fallback == LUCENT_FALLBACK_FRONT ? "front"
-                                                                           : "next best-facing visible view, then front",
+             plan->view_count == 1 || s->fallback == LUCENT_FALLBACK_FRONT
+                 ? "front"
+                 : "next best-facing visible view, then front; the two best views blended",
              s->single_scattering ? "true" : "false");
     stats->triangles = gm->mesh->triangle_count;
     stats->proxy_triangles = gm->proxies[PROXY_FRONT].triangles;

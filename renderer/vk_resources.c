@@ -56,14 +56,14 @@ static VkImageAspectFlags aspect_of(VkFormat format)
 }
 
 static lucent_status create_view(struct vk_context *ctx, const struct vk_image *img, uint32_t first,
-                                 uint32_t count, VkImageView *out, lucent_error *err)
+                                 uint32_t count, uint32_t levels, VkImageView *out, lucent_error *err)
 {
     lucent_status st = LUCENT_OK;
     VkImageViewCreateInfo vci = {
         .sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO, .image = img->image,
         .viewType = count > 1 || img->layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D,
         .format = img->format,
-        .subresourceRange = {aspect_of(img->format), 0, 1, first, count}};
+        .subresourceRange = {aspect_of(img->format), 0, levels, first, count}};
     VK_TRY(vkCreateImageView(ctx->device, &vci, NULL, out), err);
 fail:
     return st;
@@ -73,15 +73,23 @@ lucent_status vk_image_create(struct vk_context *ctx, uint32_t width, uint32_t h
                               VkFormat format, VkImageUsageFlags usage, struct vk_image *out,
                               lucent_error *err)
 {
+    return vk_image_create_mipped(ctx, width, height, layers, 1, format, usage, out, err);
+}
+
+lucent_status vk_image_create_mipped(struct vk_context *ctx, uint32_t width, uint32_t height, uint32_t layers,
+                                     uint32_t levels, VkFormat format, VkImageUsageFlags usage,
+                                     struct vk_image *out, lucent_error *err)
+{
     lucent_status st = LUCENT_OK;
     memset(out, 0, sizeof *out);
     out->format = format;
     out->width = width;
     out->height = height;
     out->layers = layers;
+    out->levels = levels;
     VkImageCreateInfo ici = {
         .sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO, .imageType = VK_IMAGE_TYPE_2D, .format = format,
-        .extent = {width, height, 1}, .mipLevels = 1, .arrayLayers = layers,
+        .extent = {width, height, 1}, .mipLevels = levels, .arrayLayers = layers,
         .samples = VK_SAMPLE_COUNT_1_BIT, .tiling = VK_IMAGE_TILING_OPTIMAL, .usage = usage,
         .sharingMode = VK_SHARING_MODE_EXCLUSIVE, .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED};
     VK_TRY(vkCreateImage(ctx->device, &ici, NULL, &out->image), err);
@@ -91,7 +99,7 @@ lucent_status vk_image_create(struct vk_context *ctx, uint32_t width, uint32_t h
     if (st != LUCENT_OK)
         goto fail;
     VK_TRY(vkBindImageMemory(ctx->device, out->image, out->memory, 0), err);
-    st = create_view(ctx, out, 0, layers, &out->view, err);
+    st = create_view(ctx, out, 0, layers, levels, &out->view, err);
     if (st != LUCENT_OK)
         goto fail;
     return LUCENT_OK;
@@ -114,5 +122,5 @@ void vk_image_destroy(struct vk_context *ctx, struct vk_image *img)
 lucent_status vk_image_layer_view(struct vk_context *ctx, const struct vk_image *img, uint32_t layer,
                                   VkImageView *out, lucent_error *err)
 {
-    return create_view(ctx, img, layer, 1, out, err);
+    return create_view(ctx, img, layer, 1, 1, out, err);
 }

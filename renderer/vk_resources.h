@@ -15,9 +15,9 @@ struct vk_buffer {
 struct vk_image {
     VkImage image;
     VkDeviceMemory memory;
-    VkImageView view;         /* all layers */
+    VkImageView view;         /* all layers and mip levels */
     VkFormat format;
-    uint32_t width, height, layers;
+    uint32_t width, height, layers, levels;
 };
 
 /* Host-visible, coherent buffer, mapped. */
@@ -29,9 +29,13 @@ void vk_buffer_destroy(struct vk_context *ctx, struct vk_buffer *b);
 lucent_status vk_image_create(struct vk_context *ctx, uint32_t width, uint32_t height, uint32_t layers,
                               VkFormat format, VkImageUsageFlags usage, struct vk_image *out,
                               lucent_error *err);
+/* The same with a chain of `levels` mip levels (the view covers them all). */
+lucent_status vk_image_create_mipped(struct vk_context *ctx, uint32_t width, uint32_t height, uint32_t layers,
+                                     uint32_t levels, VkFormat format, VkImageUsageFlags usage,
+                                     struct vk_image *out, lucent_error *err);
 void vk_image_destroy(struct vk_context *ctx, struct vk_image *img);
 
-/* A view of one layer, for framebuffers that draw one array layer at a time. */
+/* A view of one layer's first mip level, for framebuffers that draw one array layer at a time. */
 lucent_status vk_image_layer_view(struct vk_context *ctx, const struct vk_image *img, uint32_t layer,
                                   VkImageView *out, lucent_error *err);
 

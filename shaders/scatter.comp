@@ -1,5 +1,6 @@
-// scatter.comp - the final pass: per covered pixel, pick the projection image that sees the point best,
-// importance-sample the dipole profile around it per channel and apply the exit Fresnel term.
+// scatter.comp - the final pass: per covered pixel, pick the projection images that see the point best,
+// integrate the dipole profile over their prefiltered flux (blending two views where they face the
+// point almost equally) and apply the exit Fresnel term.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "frame.glsl"
@@ -19,6 +20,11 @@ layout(constant_id = 1) const int VIEW_COUNT = 5;
 layout(constant_id = 2) const bool SHARED_SAMPLES = true;
 layout(constant_id = 3) const bool FRONT_FALLBACK = false; // the paper's: hidden in the best view -> front
 layout(constant_id = 4) const bool SINGLE_SCATTERING = false;
+// Views whose facing cosines differ by less than this are blended.
+const float VIEW_BLEND = 0.2;
+// A sample reads the mip level whose texels are half the side of the area it stands for: measured
+// on the side-lit bunny, sphere and protrusion, 0 blurs the terminator and -1 brings back noise.
+const float LOD_BIAS = -0.5;
 
 vec2 texel_coord(int k, vec3 p)
 {
@@ -51,10 +57,11 @@ bool visible_in(int k, vec3 p, vec3 n)
 
 // Best-facing view in which the point is visible; views facing away are never used.
 // Falls back to the front view (0), as the paper does, when no facing view sees the point, or at
-// once when FRONT_FALLBACK is set.
-int choose_view(vec3 p, vec3 n)
+// once when FRONT_FALLBACK is set. `except` is a view not to choose (-1: none); returns -1 when no
+// other facing view sees the point.
+int choose_view(vec3 p, vec3 n, int except)
 {
-    uint tried = 0u;
+    uint tried = except >= 0 ? 1u << except : 0u;
     for (int attempt = 0; attempt < (FRONT_FALLBACK ? 1 : VIEW_COUNT); attempt++) {
         int best = -1;
         float best_score = 0.0;
@@ -71,7 +78,12 @@ int choose_view(vec3 p, vec3 n)
             return best;
         tried |= 1u << best;
     }
-    return 0;
+    return except >= 0 ? -1 : 0;
+}
+
+float view_score(int k, vec3 n)
+{
+    return dot(n, -frame.view_dir[k].xyz);
 }
 
 // Texels hold irradiance per unit of image area (projection.frag); per unit of surface area it is
@@ -104,13 +116,29 @@ vec3 dipole_rd3(float r)
     return vec3(dipole_rd(0, r), dipole_rd(1, r), dipole_rd(2, r));
 }
 
-// Sums texel flux x R_d x weight over the sample pattern around p in projection image k. The
-// distance to each sample is its exact lateral offset (not its texel centre's) plus a depth
-// difference. Within a texel of p the image cannot resolve the surface better than p's tangent
-// plane, so the depth comes from that plane; farther out it is the texel's depth, moved from the
-// texel centre to the sample along the tangent plane and compared with the image's own surface at
-// p. Texel quantization, facets and a proxy mesh's offset from the true surface then add no false
-// depth, and kernels narrower than a texel integrate to the right energy.
+// Mean flux density over about `area_texels` texels around `at` in view k, from the projection
+// image's mip chain (bilinear within the nearest level). A far sample stands for its whole ring
+// segment, so it returns that segment's mean instead of one texel (the prefiltering of translucent
+// shadow maps). Reads stay inside the view's corner of its layer, the only part of the side layers'
+// levels that is written.
+vec3 prefiltered_flux(int k, vec2 at, float area_texels)
+{
+    int side = int(frame.view_du[k].w);
+    float lod = clamp(0.5 * log2(max(area_texels, 1.0)) + LOD_BIAS, 0.0, float(findMSB(side)));
+    int finer = int(lod);   // the sampler rounds lod to the nearest level, this one or the next
+    float level_side = float(side >> finer), layer_side = float(int(frame.view_du[0].w) >> finer);
+    vec2 uv = clamp(at * exp2(-float(finer)), vec2(1.0), vec2(max(level_side - 1.0, 1.0))) / layer_side;
+    return textureLod(projection_images, vec3(uv, float(k)), lod).rgb;
+}
+
+// Sums flux x R_d x weight over the sample pattern around p in projection image k; each sample's
+// weight is the surface area (mm^2) it stands for. The distance to each sample is its exact lateral
+// offset plus a depth difference. Within a texel of p the image cannot resolve the surface better
+// than p's tangent plane, so the depth comes from that plane; farther out it is the depth of the
+// texel the sample lands in, moved from the texel centre to the sample along the tangent plane and
+// compared with the image's own surface at p (the plane where that texel is empty but the
+// prefiltered flux is not). Texel quantization, facets and a proxy mesh's offset from the true
+// surface then add no false depth, and kernels narrower than a texel integrate to the right energy.
 vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px)
 {
     vec2 center = texel_coord(k, p);
@@ -129,6 +157,7 @@ vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px)
     // Kernels far below a texel: the sum is the point's own irradiance times the integral of R_d.
     if (SAMPLES == 0)
         return home_depth >= 0.0 ? surface_irradiance(k, home, n) * frame.rd_total.rgb : vec3(0.0);
+    float texels_per_mm2 = 1.0 / (mm_per_texel * mm_per_texel);
     vec3 sum = vec3(0.0);
     for (int c = 0; c < (SHARED_SAMPLES ? 1 : 3); c++) {
         for (int j = 0; j < SAMPLES; j++) {
@@ -138,16 +167,15 @@ vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px)
             if (!inside(k, t))
                 continue;
             vec4 texel = texelFetch(projection_images, ivec3(t, k), 0);
-            if (texel.a < 0.0)
-                continue;
-            float step = s.x < mm_per_texel ? dot(at - center, slope)
-                                            : texel.a + dot(at - (vec2(t) + 0.5), slope) - depth;
+            vec3 flux = s.x < mm_per_texel ? texel.rgb : prefiltered_flux(k, at, s.y * texels_per_mm2);
+            float step = s.x < mm_per_texel || texel.a < 0.0 ? dot(at - center, slope)
+                                                              : texel.a + dot(at - (vec2(t) + 0.5), slope) - depth;
             float dz = step * frame.params.y;
             float r = sqrt(s.x * s.x + dz * dz);
             if (SHARED_SAMPLES)
-                sum += texel.rgb * dipole_rd3(r) * s.y;
+                sum += flux * dipole_rd3(r) * s.y;
             else
-                sum[c] += texel[c] * dipole_rd(c, r) * s.y;
+                sum[c] += flux[c] * dipole_rd(c, r) * s.y;
         }
     }
     return sum;
@@ -217,10 +245,19 @@ void main()
     vec4 position_depth = texelFetch(gbuffer_position, px, 0);
     vec3 p = position_depth.xyz;
     vec3 n = normalize(normal_coverage.xyz);
-    int k = choose_view(p, n);
+    int k = choose_view(p, n, -1);
     vec3 to_eye = normalize(frame.camera_eye.xyz - p);
     float ft_out = fresnel_transmittance(frame.params.x, dot(n, to_eye));
-    vec3 radiance = scattered_light(k, p, n, px) * (ft_out / PI);
+    vec3 diffuse = scattered_light(k, p, n, px);
+    // Where the next best view faces the point almost as well, both are integrated and blended, half
+    // and half where they face it equally: the choice of view then changes the image smoothly.
+    if (VIEW_COUNT > 1 && !FRONT_FALLBACK) {
+        int k2 = choose_view(p, n, k);
+        float w2 = k2 < 0 ? 0.0 : 0.5 * clamp(1.0 - (view_score(k, n) - view_score(k2, n)) / VIEW_BLEND, 0.0, 1.0);
+        if (w2 > 0.0)
+            diffuse = mix(diffuse, scattered_light(k2, p, n, px), w2);
+    }
+    vec3 radiance = diffuse * (ft_out / PI);
     if (SINGLE_SCATTERING) {
         ivec2 home = ivec2(floor(texel_coord(k, p)));
         bool seen = inside(k, home) && texelFetch(projection_images, ivec3(home, k), 0).a >= 0.0;

@@ -222,9 +222,10 @@ static void check_auto_choices(lucent_renderer *r, const char *square)
 
 /* ---- the paper's fallback for hidden points ---- */
 
-/* Points hidden in their best-facing side image: "next_best" tries the next view, "front" (the
- * paper's rule) goes to the front image. They differ only where the next best view is another side
- * view that sees the point: on the bunny's ears and feet, none on the builtins. */
+/* "front" is the paper's rule: one view a pixel, the front image where the best-facing one hides the
+ * point. "next_best" tries the next view that sees it and blends the two best views where they face
+ * the point almost equally, so the two differ wherever views are blended (measured: 27% of the
+ * bunny's pixels), and the paper's rule is farther from the reference (0.075 vs 0.070). */
 static void check_fallback(lucent_renderer *r, const char *bunny)
 {
     char base[1200];
@@ -249,7 +250,7 @@ static void check_fallback(lucent_renderer *r, const char *bunny)
     lucent_image_compare(&img[1], &img[2], &front, NULL);
     int reported = strstr(stats[1].modelled, "\"hidden_point_fallback\":\"front\"") &&
                    strstr(stats[0].modelled, "\"hidden_point_fallback\":\"next best");
-    test_check(reported && differ > 0 && differ < covered / 20 && front.object.rel_l2 >= next_best.object.rel_l2,
+    test_check(reported && differ > covered / 10 && front.object.rel_l2 > next_best.object.rel_l2,
                "bunny fallback front vs next_best: %d of %d covered pixels differ (%.2f%%), rel L2 vs reference "
                "%.5f vs %.5f, reported %s", differ, covered, 100.0 * differ / covered, front.object.rel_l2,
                next_best.object.rel_l2, reported ? "yes" : "NO");
