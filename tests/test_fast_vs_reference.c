@@ -1,26 +1,33 @@
-/* test_fast_vs_reference.c - the image-space methods scored against method "reference" on small images:
- * every error measure bounded at its measured value times a margin, and the paper's claim checked:
- * under a side light, five projection images beat one in the silhouette band. */
+/* test_fast_vs_reference.c - the image-space methods scored against method "reference" on small images
+ * (the builtins, the bunny and a flat-faced cube lit on one face): every error measure, noise and the
+ * mean ratio bounded at the measured value times a margin, and the paper's claim checked: under a
+ * side light, five projection images beat one in the silhouette band. */
 #include "test_support.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 /* Renders are deterministic; the margins absorb another device's rounding and rasterization. The
  * relative measures are dominated by the dimly lit far side, so their share gets an absolute margin. */
 #define ERROR_MARGIN 1.5
 #define SHARE_MARGIN 0.1
+/* The mean ratio's distance from 1 gets the error margin, at least 0.01. */
+#define MEAN_FLOOR 0.01
 
 enum { MODES = 3 };
 static const char *const modes[MODES] = {"\"method\":\"single\"", "\"method\":\"five\"",
                                          "\"method\":\"five\",\"sampling\":\"per_channel\""};
 
 struct measures {
-    double rel_l2, band_rel_l2, p99_rel, share_over_10pct;
+    double rel_l2, band_rel_l2, p99_rel, share_over_10pct, noise, mean_ratio;
 };
 
+enum mesh_source { BUILTIN, BUNNY, CUBE };
+
 struct scored_case {
+    enum mesh_source source;
     const char *mesh, *light, *material;
     int side;
     struct measures measured[MODES];   /* when written, per mode */
@@ -28,18 +35,68 @@ struct scored_case {
 };
 
 static const struct scored_case cases[] = {
-    {"sphere", "[0,0,-1]", "skin1", 64,
-     {{0.0333, 0.0601, 0.11, 0.02}, {0.0332, 0.068, 0.147, 0.03}, {0.0153, 0.0276, 0.051, 0.00}}, 0},
-    {"sphere", "[-1,0,0]", "marble", 64,
-     {{0.048, 0.0385, 4.839, 0.61}, {0.044, 0.0278, 4.723, 0.61}, {0.0464, 0.0272, 11.57, 0.65}}, 1},
-    {"protrusion", "[-1,0,0]", "marble", 64,
-     {{0.0495, 0.0538, 4.139, 0.56}, {0.0309, 0.0288, 2.206, 0.53}, {0.0298, 0.0278, 1.794, 0.54}}, 1},
+    {BUILTIN, "sphere", "[0,0,-1]", "skin1", 64,
+     {{0.0333, 0.0601, 0.11, 0.02, 0.0288, 0.9972},
+      {0.0332, 0.068, 0.147, 0.03, 0.0285, 1.0013},
+      {0.0153, 0.0276, 0.051, 0.00, 0.0133, 1.0025}}, 0},
+    {BUILTIN, "sphere", "[-1,0,0]", "marble", 64,
+     {{0.048, 0.0385, 4.839, 0.61, 0.0426, 1.0256},
+      {0.044, 0.0278, 4.723, 0.61, 0.0401, 1.0257},
+      {0.0464, 0.0272, 11.57, 0.65, 0.0368, 1.0382}}, 1},
+    {BUILTIN, "protrusion", "[-1,0,0]", "marble", 64,
+     {{0.0495, 0.0538, 4.139, 0.56, 0.0421, 1.0130},
+      {0.0309, 0.0288, 2.206, 0.53, 0.0275, 1.0088},
+      {0.0298, 0.0278, 1.794, 0.54, 0.0242, 1.0034}}, 1},
     /* ketchup's kernels differ tenfold: 16 shared samples cover red thinly */
-    {"protrusion", "[-1,0,0]", "ketchup", 64,
-     {{0.1385, 0.1343, 4.906, 0.67}, {0.091, 0.0864, 2.462, 0.61}, {0.0385, 0.0351, 1, 0.42}}, 0},
-    {NULL, "[-1,0,0]", "marble", 96,   /* the Stanford bunny, from argv[1] */
-     {{0.1034, 0.2088, 2.136, 0.62}, {0.069, 0.071, 2.111, 0.59}, {0.069, 0.0637, 1.529, 0.64}}, 1},
+    {BUILTIN, "protrusion", "[-1,0,0]", "ketchup", 64,
+     {{0.1385, 0.1343, 4.906, 0.67, 0.1177, 1.0335},
+      {0.091, 0.0864, 2.462, 0.61, 0.0785, 1.0103},
+      {0.0385, 0.0351, 1, 0.42, 0.0291, 0.9889}}, 0},
+    {BUNNY, "bunny", "[-1,0,0]", "marble", 96,
+     {{0.1034, 0.2088, 2.136, 0.62, 0.0437, 0.9605},
+      {0.069, 0.071, 2.111, 0.59, 0.0388, 0.9703},
+      {0.069, 0.0637, 1.529, 0.64, 0.0354, 0.9628}}, 1},
+    /* the +X face lit, the top and front faces lit only by light diffusing around their edges */
+    {CUBE, "cube", "[-1,0,0]", "marble", 96,
+     {{0.0572, 0.0436, 7.03, 0.70, 0.0507, 1.0087},
+      {0.0793, 0.0851, 6.465, 0.71, 0.0517, 0.9939},
+      {0.0768, 0.0855, 5.849, 0.73, 0.0469, 0.9848}}, 0},
+    {CUBE, "cube", "[-1,0,0]", "skin1", 96,
+     {{0.0915, 0.0687, 19.64, 0.73, 0.0787, 1.0099},
+      {0.1068, 0.1059, 18.36, 0.71, 0.0717, 0.9908},
+      {0.0885, 0.1015, 18.39, 0.69, 0.05, 0.9901}}, 0},
 };
+
+/* A unit cube with a normal per face (each face its own four vertices), so its faces stay flat. */
+static const char *write_cube_obj(void)
+{
+    static char path[64];
+    char text[1200];
+    size_t n = 0;
+    static const int axes[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (int f = 0; f < 6; f++) {
+        const int *a = axes[f];
+        /* edge directions u and v = a x u, so u x v = a: the face winds outward */
+        int u[3] = {0, 0, 0}, v[3], k = a[0] != 0 ? 0 : a[1] != 0 ? 1 : 2;
+        u[(k + 1) % 3] = 1;
+        v[0] = a[1] * u[2] - a[2] * u[1];
+        v[1] = a[2] * u[0] - a[0] * u[2];
+        v[2] = a[0] * u[1] - a[1] * u[0];
+        static const int corner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+        for (int c = 0; c < 4; c++)
+            n += (size_t)snprintf(text + n, sizeof text - n, "v %d %d %d\n",
+                                  a[0] + corner[c][0] * u[0] + corner[c][1] * v[0],
+                                  a[1] + corner[c][0] * u[1] + corner[c][1] * v[1],
+                                  a[2] + corner[c][0] * u[2] + corner[c][1] * v[2]);
+        n += (size_t)snprintf(text + n, sizeof text - n, "vn %d %d %d\n", a[0], a[1], a[2]);
+    }
+    for (int f = 0; f < 6; f++)
+        n += (size_t)snprintf(text + n, sizeof text - n, "f %d//%d %d//%d %d//%d\nf %d//%d %d//%d %d//%d\n",
+                              4 * f + 1, f + 1, 4 * f + 2, f + 1, 4 * f + 3, f + 1, 4 * f + 1, f + 1, 4 * f + 3,
+                              f + 1, 4 * f + 4, f + 1);
+    test_write_obj(path, sizeof path, "cube", text);
+    return path;
+}
 
 static int within(const char *name, double got, double bound, char *buf, size_t cap)
 {
@@ -53,13 +110,14 @@ static void score(lucent_renderer *r, const struct scored_case *c, const char *m
     char base[900], json[1000];
     snprintf(base, sizeof base,
              "\"mesh\":{\"%s\":\"%s\"},\"material\":{\"preset\":\"%s\"},\"lights\":[{\"direction\":%s,"
-             "\"intensity\":3}],\"width\":%d,\"height\":%d,\"format\":\"exr\"",
-             c->mesh ? "builtin" : "file", mesh, c->material, c->light, c->side, c->side);
+             "\"intensity\":3}],\"width\":%d,\"height\":%d,\"format\":\"exr\"%s",
+             c->source == BUILTIN ? "builtin" : "file", mesh, c->material, c->light, c->side, c->side,
+             c->source == CUBE ? ",\"camera\":{\"position\":[2.6,2,4.4],\"target\":[0,0,0]}" : "");
     snprintf(json, sizeof json, "{%s,\"method\":\"reference\"}", base);
     lucent_image ref;
     test_render(r, json, &ref, NULL);
     double band[MODES] = {0};
-    const char *name = c->mesh ? c->mesh : "bunny";
+    const char *name = c->mesh;
     for (int m = 0; m < MODES; m++) {
         snprintf(json, sizeof json, "{%s,%s}", base, modes[m]);
         lucent_image img;
@@ -68,13 +126,18 @@ static void score(lucent_renderer *r, const struct scored_case *c, const char *m
         test_render(r, json, &img, NULL);
         lucent_status st = lucent_image_compare(&img, &ref, &e, &err);
         const struct measures *w = &c->measured[m];
-        char line[400] = "";
+        char line[600] = "";
         int ok = st == LUCENT_OK && e.object.pixels > 0 && e.band.pixels > 0 &&
                  e.coverage_mismatch <= e.object.pixels / 50;
         ok &= within("rel L2", e.object.rel_l2, ERROR_MARGIN * w->rel_l2, line, sizeof line);
         ok &= within("band rel L2", e.band.rel_l2, ERROR_MARGIN * w->band_rel_l2, line, sizeof line);
         ok &= within("p99 rel", e.object.p99_rel, ERROR_MARGIN * w->p99_rel, line, sizeof line);
         ok &= within(">10%", e.object.share_over_10pct, w->share_over_10pct + SHARE_MARGIN, line, sizeof line);
+        ok &= within("noise", e.noise, ERROR_MARGIN * w->noise, line, sizeof line);
+        size_t used = strlen(line);
+        snprintf(line + used, sizeof line - used, " mean ratio %.4f", e.mean_ratio);
+        ok &= within("|mean ratio - 1|", fabs(e.mean_ratio - 1.0),
+                     fmax(ERROR_MARGIN * fabs(w->mean_ratio - 1.0), MEAN_FLOOR), line, sizeof line);
         test_check(ok, "%-10s %-7s light %-8s {%s}:%s; band %d px, coverage mismatch %d", name, c->material,
                    c->light, modes[m], line, e.band.pixels, e.coverage_mismatch);
         band[m] = e.band.rel_l2;
@@ -94,8 +157,10 @@ int main(int argc, char **argv)
         return 2;
     }
     lucent_renderer *r = test_renderer();
+    const char *cube = write_cube_obj();
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
-        score(r, &cases[i], cases[i].mesh ? cases[i].mesh : argv[1]);
+        score(r, &cases[i], cases[i].source == BUILTIN ? cases[i].mesh : cases[i].source == BUNNY ? argv[1] : cube);
+    unlink(cube);
     lucent_renderer_destroy(r);
     return test_finish();
 }
