@@ -8,6 +8,7 @@
 #include "projection_vert.h"
 #include "scatter_comp.h"
 #include "shadow_vert.h"
+#include "vk_device.h"
 
 #include <string.h>
 
@@ -217,6 +218,19 @@ static lucent_status make_layouts(struct vk_context *ctx, struct pipelines *p, l
     return LUCENT_OK;
 }
 
+/* The projection images' mip chain is made by linear blits and read with linear filtering. */
+static lucent_status check_projection_format(struct vk_context *ctx, lucent_error *err)
+{
+    VkFormatProperties props;
+    vkGetPhysicalDeviceFormatProperties(ctx->shared->physical, PROJECTION_FORMAT, &props);
+    VkFormatFeatureFlags need = VK_FORMAT_FEATURE_BLIT_SRC_BIT | VK_FORMAT_FEATURE_BLIT_DST_BIT |
+                                VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
+    if ((props.optimalTilingFeatures & need) != need)
+        return lucent_fail(err, LUCENT_E_VULKAN, "", "device %s cannot blit and linearly filter "
+                           "VK_FORMAT_R32G32B32A32_SFLOAT (the projection images' mip chain)", ctx->device_name);
+    return LUCENT_OK;
+}
+
 static lucent_status make_sampler(struct vk_context *ctx, int compare, VkFilter filter, VkSampler *out,
                                   lucent_error *err)
 {
@@ -238,7 +252,8 @@ lucent_status pipelines_create(struct vk_context *ctx, struct pipelines *p, luce
 {
     lucent_status st;
     memset(p, 0, sizeof *p);
-    if ((st = make_render_pass(ctx, 0, VK_FORMAT_UNDEFINED, 1, 0, 0, &p->shadow_pass, err)) ||
+    if ((st = check_projection_format(ctx, err)) ||
+        (st = make_render_pass(ctx, 0, VK_FORMAT_UNDEFINED, 1, 0, 0, &p->shadow_pass, err)) ||
         (st = make_render_pass(ctx, 1, PROJECTION_FORMAT, 0, 0, 0, &p->projection_pass[PROJECTION_FRONT], err)) ||
         (st = make_render_pass(ctx, 1, PROJECTION_FORMAT, 0, (1u << SIDE_VIEWS) - 1, 1,
                                &p->projection_pass[PROJECTION_SIDES], err)) ||

@@ -2,8 +2,6 @@
  * Everything here is owned by struct render_targets and freed by render_targets_destroy. */
 #include "render_targets.h"
 
-#include "vk_device.h"
-
 #include <string.h>
 
 static lucent_status make_framebuffer(struct vk_context *ctx, VkRenderPass pass, const VkImageView *views,
@@ -34,19 +32,6 @@ static lucent_status make_shadow_maps(struct vk_context *ctx, const struct pipel
     return st;
 }
 
-/* The projection images' mip chain is made by linear blits and read with linear filtering. */
-static lucent_status check_projection_format(struct vk_context *ctx, lucent_error *err)
-{
-    VkFormatProperties props;
-    vkGetPhysicalDeviceFormatProperties(ctx->shared->physical, PROJECTION_FORMAT, &props);
-    VkFormatFeatureFlags need = VK_FORMAT_FEATURE_BLIT_SRC_BIT | VK_FORMAT_FEATURE_BLIT_DST_BIT |
-                                VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
-    if ((props.optimalTilingFeatures & need) != need)
-        return lucent_fail(err, LUCENT_E_VULKAN, "", "device %s cannot blit and linearly filter "
-                           "VK_FORMAT_R32G32B32A32_SFLOAT (the projection images' mip chain)", ctx->device_name);
-    return LUCENT_OK;
-}
-
 static uint32_t mip_levels(uint32_t size)
 {
     uint32_t levels = 1;
@@ -61,8 +46,7 @@ static lucent_status make_projection(struct vk_context *ctx, const struct pipeli
     uint32_t s = t->projection_size, side = t->side_size;
     VkImageUsageFlags depth = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
     lucent_status st;
-    if ((st = check_projection_format(ctx, err)) ||
-        (st = vk_image_create_mipped(ctx, s, s, FRAME_MAX_VIEWS, mip_levels(s), PROJECTION_FORMAT,
+    if ((st = vk_image_create_mipped(ctx, s, s, FRAME_MAX_VIEWS, mip_levels(s), PROJECTION_FORMAT,
                                      VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
                                          VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
                                      &t->projection, err)) ||

@@ -55,6 +55,12 @@ bool visible_in(int k, vec3 p, vec3 n)
     return abs(stored - depth) <= tolerance;
 }
 
+// How squarely view k faces a surface of normal n (the cosine; <= 0: the view sees its back).
+float view_score(int k, vec3 n)
+{
+    return dot(n, -frame.view_dir[k].xyz);
+}
+
 // Best-facing view in which the point is visible; views facing away are never used.
 // Falls back to the front view (0), as the paper does, when no facing view sees the point, or at
 // once when FRONT_FALLBACK is set. `except` is a view not to choose (-1: none); returns -1 when no
@@ -66,7 +72,7 @@ int choose_view(vec3 p, vec3 n, int except)
         int best = -1;
         float best_score = 0.0;
         for (int k = 0; k < VIEW_COUNT; k++) {
-            float score = dot(n, -frame.view_dir[k].xyz);
+            float score = view_score(k, n);
             if ((tried & (1u << k)) == 0u && score > best_score) {
                 best = k;
                 best_score = score;
@@ -79,11 +85,6 @@ int choose_view(vec3 p, vec3 n, int except)
         tried |= 1u << best;
     }
     return except >= 0 ? -1 : 0;
-}
-
-float view_score(int k, vec3 n)
-{
-    return dot(n, -frame.view_dir[k].xyz);
 }
 
 // Texels hold irradiance per unit of image area (projection.frag); per unit of surface area it is
