@@ -1,6 +1,7 @@
 /* bench_trade.c - the measured speed/accuracy trade: every fast mode timed warm and scored against method
  * "reference" over 5 meshes x 3 lights x 4 materials x 2 sizes; writes CSV, Markdown and a plot table. */
 #include "bench_median.h"
+#include "flat_cube.h"
 #include "lucent.h"
 
 #include <stdarg.h>
@@ -41,14 +42,6 @@ static const struct mesh_case meshes[] = {
     [MESH_CUBE] = {"cube", NULL, "\"camera\":{\"position\":[1.6,1.2,2.0],\"target\":[0,0,0]},"},
 };
 
-/* The unit cube centred on the origin, wound outward; each face names its own normal, so the
- * importer keeps the faces' vertices apart and the normals flat (no smoothing across the edges). */
-static const char cube_obj[] = "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv 0.5 0.5 -0.5\nv -0.5 0.5 -0.5\n"
-                               "v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n"
-                               "vn 1 0 0\nvn -1 0 0\nvn 0 1 0\nvn 0 -1 0\nvn 0 0 1\nvn 0 0 -1\n"
-                               "f 2//1 3//1 7//1\nf 2//1 7//1 6//1\nf 1//2 5//2 8//2\nf 1//2 8//2 4//2\n"
-                               "f 4//3 8//3 7//3\nf 4//3 7//3 3//3\nf 1//4 2//4 6//4\nf 1//4 6//4 5//4\n"
-                               "f 5//5 6//5 7//5\nf 5//5 7//5 8//5\nf 1//6 4//6 3//6\nf 1//6 3//6 2//6\n";
 static const struct light_case lights[] = {[LIGHT_FRONT] = {"front", "[0,0,-1]"},
                                            [LIGHT_SIDE] = {"side", "[-1,0,0]"},
                                            [LIGHT_BACK] = {"back", "[0,0,1]"}};
@@ -491,7 +484,7 @@ static int write_cube_obj(struct options *o)
 {
     snprintf(o->cube_path, sizeof o->cube_path, "%s_cube.obj", o->prefix);
     FILE *f = fopen(o->cube_path, "w");
-    if (!f || fputs(cube_obj, f) == EOF || fclose(f) != 0) {
+    if (!f || fputs(flat_cube_obj, f) == EOF || fclose(f) != 0) {
         perror(o->cube_path);
         return -1;
     }

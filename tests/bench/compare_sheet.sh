@@ -267,17 +267,15 @@ for s in "${scenes[@]}"; do
     # shellcheck disable=SC2059
     labels=(reference "before" "after" "$(printf "$dl" before)" "$(printf "$dl" after)")
     tiles=()
-    i=0
-    for v in ref before after dbefore dafter; do
-        labelled "$d/t_$v.png" "$d/l_$v.png" "${labels[i]}"
-        tiles+=("$d/l_$v.png")
-        i=$((i + 1))
-    done
-    i=0
-    for v in ref before after dbefore dafter; do
-        labelled "$d/z_$v.png" "$d/lz_$v.png" "${labels[i]}, 3x"
-        tiles+=("$d/lz_$v.png")
-        i=$((i + 1))
+    for row in t z; do   # the full images, then the zoomed ones
+        suffix=""
+        [[ $row == z ]] && suffix=", 3x"
+        i=0
+        for v in ref before after dbefore dafter; do
+            labelled "$d/${row}_$v.png" "$d/l${row}_$v.png" "${labels[i]}$suffix"
+            tiles+=("$d/l${row}_$v.png")
+            i=$((i + 1))
+        done
     done
     oiiotool "${tiles[@]}" --mosaic:pad=4 5x2 -d uint8 -o "$d/mosaic.png"
 
