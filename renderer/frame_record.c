@@ -87,7 +87,7 @@ static void copy_sides(const struct frame_gpu *gpu)
     VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
                               .srcAccessMask = VK_ACCESS_SHADER_READ_BIT,
                               .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-                              .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+                              .oldLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,   /* keeps the cleared rest */
                               .newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                               .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
                               .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
@@ -121,8 +121,8 @@ static VkImageMemoryBarrier projection_barrier(const struct render_targets *t, u
 
 /* Level i of a layer is the 2x2 mean of level i-1: flux per unit of image area, averaged, so a texel
  * of level i holds the mean of the 4^i texels it covers (uncovered ones add no flux). The side views
- * fill a side_size^2 corner of their layers, and only that corner is reduced: what lies outside it is
- * never written and never read. The depth in alpha is averaged too; the scatter pass reads depth
+ * fill a side_size^2 corner of their layers, and only that corner is reduced: what lies outside it
+ * keeps the clear of render_targets.c (no flux). The depth in alpha is averaged too; the scatter pass reads depth
  * from level 0 only. */
 static void blit_level(VkCommandBuffer cmd, const struct render_targets *t, uint32_t level, uint32_t size,
                        uint32_t first, uint32_t layers)
@@ -147,8 +147,9 @@ static void record_mips(const struct frame_gpu *gpu, int five)
                                                 VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, written, VK_ACCESS_TRANSFER_READ_BIT);
     vkCmdPipelineBarrier(cmd, drawn, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0, NULL, 1, &b);
     for (uint32_t level = 1; level < t->projection.levels; level++) {
-        b = projection_barrier(t, level, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                               VK_ACCESS_SHADER_READ_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+        b = projection_barrier(t, level, 1, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_ACCESS_SHADER_READ_BIT,
+                               VK_ACCESS_TRANSFER_WRITE_BIT);
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL,
                              0, NULL, 1, &b);
         blit_level(cmd, t, level, t->projection_size, 0, 1);

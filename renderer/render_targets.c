@@ -153,17 +153,33 @@ static VkImageMemoryBarrier to_shader_read(VkImage image, VkImageAspectFlags asp
 }
 
 /* Shadow layers, side images and mip levels that no frame has drawn yet are still bound for
- * sampling: give them a valid layout. */
+ * sampling: give them a valid layout. The projection images are cleared once (no flux, depth -1):
+ * frames write only the side views' corners of layers 1-4, and a bilinear read at a corner's edge
+ * touches the texels beside it, so those must hold no flux rather than undefined (possibly NaN)
+ * values; frames keep their layout transitions content-preserving for that reason. */
 static lucent_status prepare_layouts(struct vk_context *ctx, struct render_targets *t, lucent_error *err)
 {
     lucent_status st = LUCENT_OK;
     VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                    .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     VK_TRY(vkBeginCommandBuffer(ctx->cmd, &bi), err);
+    VkImageSubresourceRange all = {VK_IMAGE_ASPECT_COLOR_BIT, 0, t->projection.levels, 0, FRAME_MAX_VIEWS};
+    VkImageMemoryBarrier to_clear = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                                     .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+                                     .newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                                     .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                                     .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED, .image = t->projection.image,
+                                     .subresourceRange = all, .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
+    vkCmdPipelineBarrier(ctx->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0,
+                         NULL, 1, &to_clear);
+    VkClearColorValue empty = {.float32 = {0.0f, 0.0f, 0.0f, -1.0f}};
+    vkCmdClearColorImage(ctx->cmd, t->projection.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &empty, 1, &all);
     VkImageMemoryBarrier b[2] = {
         to_shader_read(t->shadow_depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, 1, 0, LUCENT_MAX_LIGHTS),
         to_shader_read(t->projection.image, VK_IMAGE_ASPECT_COLOR_BIT, t->projection.levels, 0, FRAME_MAX_VIEWS)};
-    vkCmdPipelineBarrier(ctx->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+    b[1].oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    b[1].srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    vkCmdPipelineBarrier(ctx->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                          VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL,
                          0, NULL, 2, b);
     VK_TRY(vkEndCommandBuffer(ctx->cmd), err);
