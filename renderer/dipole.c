@@ -118,47 +118,69 @@ static void build_cdf(const struct profile *p, double r_max, struct radial_cdf *
     }
 }
 
-static double invert_cdf(const struct radial_cdf *t, double target)
+/* The grid interval [lo, lo + 1] of an increasing table v[0..GRID] that holds x. */
+static int bracket(const double *v, double x)
 {
     int lo = 0, hi = GRID;
     while (hi - lo > 1) {
         int mid = (lo + hi) / 2;
-        if (t->cdf[mid] < target)
+        if (v[mid] < x)
             lo = mid;
         else
             hi = mid;
     }
+    return lo;
+}
+
+static double invert_cdf(const struct radial_cdf *t, double target)
+{
+    int lo = bracket(t->cdf, target), hi = lo + 1;
     double span = t->cdf[hi] - t->cdf[lo];
     double f = span > 0.0 ? (target - t->cdf[lo]) / span : 0.0;
     return t->r[lo] + f * (t->r[hi] - t->r[lo]);
 }
 
-double dipole_sample_radii(const struct dipole *d, double r_max, int n, double *radii,
+/* The tabulated integral from 0 to r (linear between grid points). */
+static double cdf_at(const struct radial_cdf *t, double r)
+{
+    if (r <= 0.0)
+        return 0.0;
+    int lo = bracket(t->r, r), hi = lo + 1;
+    double f = fmin((r - t->r[lo]) / (t->r[hi] - t->r[lo]), 1.0);
+    return t->cdf[lo] + f * (t->cdf[hi] - t->cdf[lo]);
+}
+
+double dipole_sample_radii(const struct dipole *d, double r_min, double r_max, int n, double *radii,
                            double *weights)
 {
     static _Thread_local struct radial_cdf table;
     struct profile p = {d, 1, {1.0}};
     build_cdf(&p, r_max, &table);
-    double total = table.cdf[GRID];
+    double lo = cdf_at(&table, r_min), table_span = table.cdf[GRID] - lo;
+    /* The table places the radii; the weights use the closed form, so a sampled annulus and the
+     * closed-form disc inside it add up to the plane integral without the table's quadrature error. */
+    double span = dipole_rd_disc(d, r_max) - dipole_rd_disc(d, r_min);
     for (int j = 0; j < n; j++) {
-        radii[j] = invert_cdf(&table, total * (j + 0.5) / n);
-        weights[j] = total / dipole_rd(d, radii[j]);
+        radii[j] = invert_cdf(&table, lo + table_span * (j + 0.5) / n);
+        weights[j] = span / dipole_rd(d, radii[j]);
     }
-    return total;
+    return span;
 }
 
-void dipole_mixture_radii(const struct dipole d[3], double r_max, int n, double *radii, double *weights)
+void dipole_mixture_radii(const struct dipole d[3], double r_min, double r_max, int n, double *radii,
+                          double *weights)
 {
     static _Thread_local struct radial_cdf table;
     struct profile p = {d, 3, {0}};
+    double span = 0.0;
     for (int c = 0; c < 3; c++) {
-        build_cdf(&(struct profile){&d[c], 1, {1.0}}, r_max, &table);
-        p.scale[c] = 1.0 / (3.0 * table.cdf[GRID]);
+        p.scale[c] = 1.0 / (3.0 * dipole_rd_disc(&d[c], r_max));
+        span += p.scale[c] * (dipole_rd_disc(&d[c], r_max) - dipole_rd_disc(&d[c], r_min));
     }
     build_cdf(&p, r_max, &table);
-    double total = table.cdf[GRID];   /* 1 up to quadrature error; kept for exact normalization */
+    double lo = cdf_at(&table, r_min), table_span = table.cdf[GRID] - lo;
     for (int j = 0; j < n; j++) {
-        radii[j] = invert_cdf(&table, total * (j + 0.5) / n);
-        weights[j] = total / (n * profile_at(&p, radii[j]));
+        radii[j] = invert_cdf(&table, lo + table_span * (j + 0.5) / n);
+        weights[j] = span / (n * profile_at(&p, radii[j]));
     }
 }

@@ -25,15 +25,18 @@ double dipole_rd_disc(const struct dipole *d, double radius);
  * at incidence cosine cos_i (clamped to [0,1]). */
 double fresnel_transmittance(double eta, double cos_i);
 
-/* Stratified radii r_j = CDF^-1((j + 1/2) / n) of the profile 2 pi r R_d(r) truncated at r_max,
- * and the truncated integral. weight_j = r_trunc / R_d(r_j) turns a sample at r_j into an
- * unbiased estimate of the integral. n <= 256. Returns the truncated integral. */
-double dipole_sample_radii(const struct dipole *d, double r_max, int n, double *radii,
+/* Stratified radii r_j = CDF^-1(CDF(r_min) + (j + 1/2) / n (CDF(r_max) - CDF(r_min))) of the profile
+ * 2 pi r R_d(r) over the annulus r_min..r_max (tabulated), and its integral R_ann there (closed form).
+ * weight_j = R_ann / R_d(r_j) turns a sample at r_j into an estimate of the integral. n <= 256.
+ * Returns R_ann. */
+double dipole_sample_radii(const struct dipole *d, double r_min, double r_max, int n, double *radii,
                            double *weights);
 
 /* The same for one set of n radii shared by three channels: stratified over the mixture
- * p_mix(r) = (1/3) sum_c R_d,c(r) / R_trunc,c, so weight_j = 1 / (n p_mix(r_j)) makes
- * sum_j f(r_j) weight_j an estimate of the integral of f for every channel's f = R_d,c. */
-void dipole_mixture_radii(const struct dipole d[3], double r_max, int n, double *radii, double *weights);
+ * p_mix(r) = (1/3) sum_c R_d,c(r) / R_trunc,c restricted to the annulus, so weight_j = P / (n p_mix(r_j))
+ * (P: the mixture's integral over the annulus) makes sum_j f(r_j) weight_j an estimate of the
+ * annulus integral of f for every channel's f = R_d,c. */
+void dipole_mixture_radii(const struct dipole d[3], double r_min, double r_max, int n, double *radii,
+                          double *weights);
 
 #endif

@@ -10,6 +10,13 @@
 
 /* Margin around the bounding sphere so silhouettes never touch an image border. */
 #define FRAME_FIT_MARGIN 1.02
+/* The scatter pass takes the irradiance as the point's own over a disc around each pixel (the near
+ * part, per pixel) and samples the annulus outside it once per block of pixels (the far part, smooth
+ * at that scale by construction), the disc's radius one block side. The block's side for an image:
+ * 4 above 320^2 pixels, 2 above 128^2, else 1 (and no disc: the whole profile is sampled per pixel).
+ * Measured: at 256^2 blocks of 4 draw blotches (side-lit bunny noise 0.027 against 0.020) and at
+ * 512^2 they are as close to the reference as 2 at a quarter of the cost. */
+int frame_far_block(int width, int height);
 
 struct frame_plan {
     struct frame_uniforms uniforms;
@@ -18,6 +25,8 @@ struct frame_plan {
     float camera_eye[4];
     int view_count;                         /* 1 (single) or 5 */
     int scatter_samples;                    /* per channel; 0 = diffuse limit (no sampling) */
+    int far_block;                          /* pixels a side of one far-annulus sample: 1, 2 or 4 */
+    double near_disc_mm;                    /* radius of the near part's disc */
     int side_projection_size;               /* resolved side image size, texels */
     int shadow_count;                       /* shadow maps to draw */
     uint32_t shadow_mask;                   /* bit l: light l reads shadow map */

@@ -184,15 +184,26 @@ static void record_gbuffer(const struct frame_gpu *gpu, const struct frame_plan 
     vkCmdEndRenderPass(cmd);
 }
 
-static void record_scatter(const struct frame_gpu *gpu, VkPipeline pipeline)
+/* The far annulus per block of pixels (when the profile is sampled), then the compose pass per pixel. */
+static void record_scatter(const struct frame_gpu *gpu, VkPipeline far, VkPipeline compose, uint32_t block)
 {
     VkCommandBuffer cmd = gpu->ctx->cmd;
-    int32_t size[2] = {(int32_t)gpu->targets->width, (int32_t)gpu->targets->height};
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+    uint32_t w = gpu->targets->width, h = gpu->targets->height;
+    int32_t size[2] = {(int32_t)w, (int32_t)h};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, gpu->pipes->scatter_layout, 0, 1,
                             &gpu->targets->scatter_set, 0, NULL);
     vkCmdPushConstants(cmd, gpu->pipes->scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof size, size);
-    vkCmdDispatch(cmd, (gpu->targets->width + 7) / 8, (gpu->targets->height + 7) / 8, 1);
+    if (far) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, far);
+        vkCmdDispatch(cmd, ((w + block - 1) / block + 7) / 8, ((h + block - 1) / block + 7) / 8, 1);
+        VkMemoryBarrier to_compose = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                                      .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
+                                      .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1,
+                             &to_compose, 0, NULL, 0, NULL);
+    }
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, compose);
+    vkCmdDispatch(cmd, (w + 7) / 8, (h + 7) / 8, 1);
     VkMemoryBarrier to_host = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
                                .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
                                .dstAccessMask = VK_ACCESS_HOST_READ_BIT};
@@ -207,7 +218,7 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
     VkCommandBuffer cmd = gpu->ctx->cmd;
     const struct gpu_geometry *front_mesh = gpu_mesh_geometry(gm, PROXY_FRONT);
     const struct gpu_geometry *side_mesh = gpu_mesh_geometry(gm, PROXY_SIDES);
-    VkPipeline front, sides = VK_NULL_HANDLE, scatter;
+    VkPipeline front, sides = VK_NULL_HANDLE, far = VK_NULL_HANDLE, compose;
     int five = plan->view_count > 1;
     /* Projection and shadow views look from outside the bounding sphere: on a closed mesh their
      * back faces are always hidden. The camera may be inside. */
@@ -217,10 +228,13 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
     if (st == LUCENT_OK && five)
         st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_SIDES, s->light_count,
                                   plan->shadow_mask, cull, &sides, err);
-    struct scatter_variant variant = {plan->scatter_samples, plan->view_count, s->sampling, s->fallback,
-                                      s->single_scattering};
+    struct scatter_variant variant = {1, plan->far_block, plan->scatter_samples, plan->view_count, s->sampling,
+                                      s->fallback, s->single_scattering};
+    if (st == LUCENT_OK && plan->scatter_samples)
+        st = pipelines_scatter(gpu->ctx, gpu->pipes, &variant, &far, err);
+    variant.far = 0;
     if (st == LUCENT_OK)
-        st = pipelines_scatter(gpu->ctx, gpu->pipes, &variant, &scatter, err);
+        st = pipelines_scatter(gpu->ctx, gpu->pipes, &variant, &compose, err);
     if (st != LUCENT_OK)
         return st;
     VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
@@ -240,7 +254,7 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
     stamp(gpu, TS_PROJECTION);
     record_gbuffer(gpu, plan, &gm->full, cull_camera);
     stamp(gpu, TS_GBUFFER);
-    record_scatter(gpu, scatter);
+    record_scatter(gpu, far, compose, (uint32_t)plan->far_block);
     stamp(gpu, TS_SCATTER);
     VK_TRY(vkEndCommandBuffer(cmd), err);
 fail:

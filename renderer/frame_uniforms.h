@@ -6,6 +6,10 @@
 #include "lucent.h"
 
 #define FRAME_MAX_VIEWS 5
+/* MIN_AREA_COS in frame.glsl: the smallest cosine to a view a texel's area is divided by. */
+#define FRAME_MIN_AREA_COS 0.1
+/* NEAR_TABLE in frame.glsl: entries of the near part's R_d integral over the view's tilt. */
+#define FRAME_NEAR_TABLE 17
 
 struct frame_uniforms {
     float view_clip[FRAME_MAX_VIEWS][16];
@@ -24,6 +28,7 @@ struct frame_uniforms {
     float z_v[4];
     float alpha_prime[4];
     float rd_total[4];
+    float near_rd[FRAME_NEAR_TABLE][4];
     float single_albedo[4];
     float samples[3 * LUCENT_MAX_SAMPLES][4];
 };

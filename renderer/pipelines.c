@@ -206,10 +206,11 @@ static lucent_status make_layouts(struct vk_context *ctx, struct pipelines *p, l
     const VkDescriptorType scatter_types[] = {
         VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
     VkShaderStageFlags raster = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     if ((st = make_set_layout(ctx, projection_types, 2, raster, &p->projection_set_layout, err)) ||
-        (st = make_set_layout(ctx, scatter_types, 7, VK_SHADER_STAGE_COMPUTE_BIT, &p->scatter_set_layout, err)) ||
+        (st = make_set_layout(ctx, scatter_types, 8, VK_SHADER_STAGE_COMPUTE_BIT, &p->scatter_set_layout, err)) ||
         (st = make_layout(ctx, VK_NULL_HANDLE, 64, VK_SHADER_STAGE_VERTEX_BIT, &p->shadow_layout, err)) ||
         (st = make_layout(ctx, p->projection_set_layout, sizeof(int32_t), raster, &p->projection_layout, err)) ||
         (st = make_layout(ctx, VK_NULL_HANDLE, sizeof(struct gbuffer_push), raster, &p->gbuffer_layout, err)) ||
@@ -303,17 +304,20 @@ lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, 
 lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, const struct scatter_variant *v,
                                 VkPipeline *out, lucent_error *err)
 {
-    if (v->samples < 0 || v->samples > LUCENT_MAX_SAMPLES || (v->views != 1 && v->views != 5))
-        return lucent_fail(err, LUCENT_E_INTERNAL, "", "no scatter pipeline for %d samples, %d views", v->samples,
-                           v->views);
+    if (v->samples < 0 || v->samples > LUCENT_MAX_SAMPLES || (v->views != 1 && v->views != 5) ||
+        (v->far && v->samples == 0) || (v->block != 1 && v->block != 2 && v->block != 4))
+        return lucent_fail(err, LUCENT_E_INTERNAL, "", "no scatter pipeline for %d samples, %d views%s", v->samples,
+                           v->views, v->far ? ", far pass" : "");
     int shared = v->sampling == LUCENT_SAMPLING_SHARED, front = v->fallback == LUCENT_FALLBACK_FRONT;
-    int single = v->single_scattering != 0;
-    size_t slot = ((((size_t)v->samples * 2 + (v->views == 5)) * 2 + (size_t)shared) * 2 + (size_t)front) * 2 +
-                  (size_t)single;
+    int single = v->single_scattering != 0, far = v->far != 0;
+    size_t pass = (size_t)far * 3 + (size_t)(v->block == 4 ? 2 : v->block - 1);
+    size_t slot = ((((pass * (LUCENT_MAX_SAMPLES + 1) + (size_t)v->samples) * 2 + (v->views == 5)) * 2 +
+                    (size_t)shared) * 2 + (size_t)front) * 2 + (size_t)single;
     if (!p->scatter[slot]) {
-        int32_t values[5] = {v->samples, v->views, shared, front, single};
-        VkSpecializationMapEntry entries[5] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}, {3, 12, 4}, {4, 16, 4}};
-        VkSpecializationInfo spec = {5, entries, sizeof values, values};
+        int32_t values[7] = {v->samples, v->views, shared, front, single, far, v->block};
+        VkSpecializationMapEntry entries[7] = {{0, 0, 4},  {1, 4, 4},  {2, 8, 4}, {3, 12, 4},
+                                               {4, 16, 4}, {5, 20, 4}, {6, 24, 4}};
+        VkSpecializationInfo spec = {7, entries, sizeof values, values};
         lucent_status st = make_scatter_pipeline(ctx, p, &spec, &p->scatter[slot], err);
         if (st != LUCENT_OK)
             return st;

@@ -19,15 +19,17 @@ enum { PROJECTION_FRONT = 0, PROJECTION_SIDES = 1 };
  * shadowed: CPU drivers pay for every branch, taken or not. Built on first use, kept with the
  * pipelines. */
 #define PROJECTION_VARIANTS (2 * 2 * LUCENT_MAX_LIGHTS * (1 << LUCENT_MAX_LIGHTS))
-/* Scatter pipelines likewise, by sample count (0: diffuse limit), view count, sampling scheme,
- * hidden-point fallback and single scattering. */
+/* Scatter pipelines likewise, by pass (the far annulus per block, or the compose pass), block size, sample
+ * count (0: diffuse limit), view count, sampling scheme, hidden-point fallback and single scattering. */
 struct scatter_variant {
+    int far;
+    int block;          /* pixels a side of one far sample: 1, 2 or 4 */
     int samples, views;
     lucent_sampling sampling;
     lucent_fallback fallback;
     int single_scattering;
 };
-#define SCATTER_VARIANTS ((LUCENT_MAX_SAMPLES + 1) * 2 * 2 * 2 * 2)
+#define SCATTER_VARIANTS (2 * 3 * (LUCENT_MAX_SAMPLES + 1) * 2 * 2 * 2 * 2)
 
 struct pipelines {
     VkRenderPass shadow_pass;
@@ -54,8 +56,8 @@ lucent_status pipelines_create(struct vk_context *ctx, struct pipelines *p, luce
  * shadow mask (bit l: light l is shadowed) and back-face culling, created on first use. */
 lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, int which, int lights,
                                    uint32_t shadow_mask, int cull, VkPipeline *out, lucent_error *err);
-/* The scatter pipeline for a variant (0..LUCENT_MAX_SAMPLES samples, 1 or 5 views), created on
- * first use. */
+/* The scatter pipeline for a variant (0..LUCENT_MAX_SAMPLES samples, 1 or 5 views; a far pass needs
+ * samples), created on first use. */
 lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, const struct scatter_variant *v,
                                 VkPipeline *out, lucent_error *err);
 void pipelines_destroy(struct vk_context *ctx, struct pipelines *p);

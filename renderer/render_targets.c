@@ -90,7 +90,13 @@ static lucent_status make_output(struct vk_context *ctx, struct render_targets *
     t->color_offset = 0;
     t->normal_offset = align_up(pixels * 16, a);
     t->depth_offset = align_up(t->normal_offset + pixels * 16, a);
-    return vk_buffer_create(ctx, t->depth_offset + pixels * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, &t->output, err);
+    lucent_status st = vk_buffer_create(ctx, t->depth_offset + pixels * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                        &t->output, err);
+    if (st != LUCENT_OK)
+        return st;
+    uint32_t b = (uint32_t)frame_far_block((int)t->width, (int)t->height);
+    VkDeviceSize blocks = (VkDeviceSize)((t->width + b - 1) / b) * ((t->height + b - 1) / b);
+    return vk_buffer_create(ctx, blocks * RENDER_TARGETS_FAR_BYTES, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, &t->far, err);
 }
 
 static lucent_status make_descriptor_sets(struct vk_context *ctx, const struct pipelines *p,
@@ -100,7 +106,7 @@ static lucent_status make_descriptor_sets(struct vk_context *ctx, const struct p
     lucent_status st = LUCENT_OK;
     VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4},
-                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3}};
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4}};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO, .maxSets = 2,
                                       .poolSizeCount = 3, .pPoolSizes = sizes};
     VK_TRY(vkCreateDescriptorPool(ctx->device, &pci, NULL, &t->pool), err);
@@ -122,6 +128,7 @@ static lucent_status make_descriptor_sets(struct vk_context *ctx, const struct p
     VkDescriptorBufferInfo outs[3] = {{t->output.buffer, t->color_offset, pixels * 16},
                                       {t->output.buffer, t->normal_offset, pixels * 16},
                                       {t->output.buffer, t->depth_offset, pixels * 4}};
+    VkDescriptorBufferInfo far = {t->far.buffer, 0, VK_WHOLE_SIZE};
 #define WRITE(set, binding, type, img, buf) \
     {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, NULL, set, binding, 0, 1, type, img, buf, NULL}
     VkWriteDescriptorSet w[] = {
@@ -133,7 +140,8 @@ static lucent_status make_descriptor_sets(struct vk_context *ctx, const struct p
         WRITE(t->scatter_set, 3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &images[2], NULL),
         WRITE(t->scatter_set, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, &outs[0]),
         WRITE(t->scatter_set, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, &outs[1]),
-        WRITE(t->scatter_set, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, &outs[2])};
+        WRITE(t->scatter_set, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, &outs[2]),
+        WRITE(t->scatter_set, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, &far)};
 #undef WRITE
     vkUpdateDescriptorSets(ctx->device, sizeof w / sizeof w[0], w, 0, NULL);
 fail:
@@ -212,6 +220,7 @@ void render_targets_destroy(struct vk_context *ctx, struct render_targets *t)
 {
     VkDevice d = ctx->device;
     vkDestroyDescriptorPool(d, t->pool, NULL);
+    vk_buffer_destroy(ctx, &t->far);
     vk_buffer_destroy(ctx, &t->output);
     vkDestroyFramebuffer(d, t->gbuffer_fb, NULL);
     vk_image_destroy(ctx, &t->gbuffer_depth);

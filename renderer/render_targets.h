@@ -7,6 +7,9 @@
 #include "pipelines.h"
 #include "vk_resources.h"
 
+/* std430 struct FarSample in scatter.comp: two vec4. */
+#define RENDER_TARGETS_FAR_BYTES 32
+
 struct render_targets {
     uint32_t width, height, projection_size, side_size;
     struct vk_image shadow_depth;                 /* SHADOW_MAP_SIZE^2 x LUCENT_MAX_LIGHTS layers */
@@ -22,6 +25,7 @@ struct render_targets {
     VkFramebuffer gbuffer_fb;
     struct vk_buffer output;                      /* color, normal+view, depth arrays */
     VkDeviceSize color_offset, normal_offset, depth_offset;
+    struct vk_buffer far;                         /* the far annulus per frame_far_block() block */
     VkDescriptorPool pool;
     VkDescriptorSet projection_set, scatter_set;
 };

@@ -212,18 +212,20 @@ static void describe(const lucent_scene *requested, const lucent_scene *s, const
         snprintf(choices, sizeof choices, "\"auto\":{%s},", chosen->decisions);
     snprintf(stats->modelled, sizeof stats->modelled,
              "{\"method\":\"%s\",%s\"views\":%d,\"subsurface\":\"%s\",\"samples_per_channel\":%d,"
-             "\"sampling\":\"%s\",\"texel_fetches_per_pixel\":%d,\"projection_size\":%d,"
+             "\"sampling\":\"%s\",\"texel_fetches_per_far_sample\":%d,\"far_block_pixels\":%d,"
+             "\"near_disc_mm\":%.6g,\"projection_size\":%d,"
              "\"side_projection_size\":%d,\"scale_mm\":%.9g,\"shadows\":[%s],"
              "\"projection_triangles\":{\"front\":%u,\"sides_and_shadows\":%u},"
              "\"hidden_point_fallback\":\"%s\",\"single_scattering\":%s}",
              method_name(requested->method), choices, plan->view_count,
              samples ? "sampled dipole" : "diffuse limit (irradiance x total R_d)", samples,
-             shared ? "shared" : "per_channel", samples ? (shared ? samples : 3 * samples) : 1, s->projection_size,
+             shared ? "shared" : "per_channel", samples ? (shared ? samples : 3 * samples) : 0,
+             samples ? plan->far_block : 0, plan->near_disc_mm, s->projection_size,
              plan->view_count > 1 ? plan->side_projection_size : 0, plan->scale_mm, lights,
              gpu_mesh_geometry(gm, PROXY_FRONT)->index_count / 3, gpu_mesh_geometry(gm, PROXY_SIDES)->index_count / 3,
              plan->view_count == 1 || s->fallback == LUCENT_FALLBACK_FRONT
                  ? "front"
-                 : "next best-facing visible view, then front; the two best views blended",
+                 : "next best-facing visible view, then front; the two best views blended in the far part",
              s->single_scattering ? "true" : "false");
     stats->triangles = gm->mesh->triangle_count;
     stats->proxy_triangles = gm->proxies[PROXY_FRONT].triangles;

@@ -3,9 +3,10 @@
 #define MAX_VIEWS 5
 #define MAX_LIGHTS 4
 #define MAX_SAMPLES 64
+#define NEAR_TABLE 17          // FRAME_NEAR_TABLE
 #define PI 3.14159265358979
 // Texel footprint on the surface grows as 1/cos to the view; past this cosine the estimate is
-// dominated by noise from grazing texels that other views cover better.
+// dominated by noise from grazing texels that other views cover better. FRAME_MIN_AREA_COS.
 const float MIN_AREA_COS = 0.1;
 
 layout(std140, set = 0, binding = 0) uniform Frame {
@@ -24,10 +25,13 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     vec4 z_r;                      // mm
     vec4 z_v;                      // mm
     vec4 alpha_prime;
-    vec4 rd_total;                 // xyz: R_d integrated out to the truncation radius (diffuse limit)
+    vec4 rd_total;                 // xyz: R_d integrated out to the truncation radius; w: near disc radius (mm)
+    // xyz: R_d integrated over the near disc's preimage on a surface tilted to the view by cosine c,
+    // at 1 / c = 1 + (i / (NEAR_TABLE - 1)) (1 / MIN_AREA_COS - 1).
+    vec4 near_rd[NEAR_TABLE];
     vec4 single_albedo;            // xyz: sigma_s / sigma_t (single scattering); w: g
-    // Per channel (c * MAX_SAMPLES + j), or shared (first n): x radius (mm), y weight (1 / (n pdf)),
-    // zw unit direction on the projection plane.
+    // The far annulus (outside the near disc), per channel (c * MAX_SAMPLES + j) or shared (first
+    // n): x radius (mm), y weight (1 / (n pdf)), zw unit direction on the projection plane.
     vec4 samples[3 * MAX_SAMPLES];
 } frame;
 

@@ -1,8 +1,11 @@
-// scatter.comp - the final pass: per covered pixel, pick the projection images that see the point best,
-// integrate the dipole profile over their prefiltered flux (blending two views where they face the
-// point almost equally) and apply the exit Fresnel term.
+// scatter.comp - the final passes: pick the projection images that see a point best and integrate the
+// dipole profile over their prefiltered flux. The far annulus of the profile is integrated once per
+// block of pixels (PASS_FAR), blending two views where they face the point almost equally; the compose
+// pass adds the near disc per pixel, upsamples the far part guided by position and normal, and applies
+// the exit Fresnel term.
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #include "frame.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 1) uniform sampler2DArray projection_images;
@@ -11,6 +14,11 @@ layout(set = 0, binding = 3) uniform sampler2D gbuffer_normal;
 layout(std430, set = 0, binding = 4) writeonly buffer OutColor { vec4 out_color[]; };
 layout(std430, set = 0, binding = 5) writeonly buffer OutNormalView { vec4 out_normal_view[]; };
 layout(std430, set = 0, binding = 6) writeonly buffer OutDepth { float out_depth[]; };
+// Per block of FAR_BLOCK^2 pixels: diffuse light from the far annulus (rgb; w: the normal where it was
+// integrated, octahedral, packed) and that pixel's position (w: x + 4096 y, exact in a float for sides
+// up to LUCENT_MAX_IMAGE_SIDE 4096; -1: no pixel covered).
+struct FarSample { vec4 diffuse; vec4 position; };
+layout(std430, set = 0, binding = 7) buffer Far { FarSample far_samples[]; };
 layout(push_constant) uniform Push { ivec2 size; } push;
 
 // Specialized per request (pipelines.c): constant loop bounds unroll, and CPU drivers pay for
@@ -20,6 +28,8 @@ layout(constant_id = 1) const int VIEW_COUNT = 5;
 layout(constant_id = 2) const bool SHARED_SAMPLES = true;
 layout(constant_id = 3) const bool FRONT_FALLBACK = false; // the paper's: hidden in the best view -> front
 layout(constant_id = 4) const bool SINGLE_SCATTERING = false;
+layout(constant_id = 5) const bool PASS_FAR = false;      // the far pass, per block of pixels; else compose
+layout(constant_id = 6) const int FAR_BLOCK = 4;          // pixels per side of a block (frame_plan.c)
 // Views whose facing cosines differ by less than this are blended.
 const float VIEW_BLEND = 0.2;
 // A sample reads the mip level whose texels are half the side of the area it stands for: measured
@@ -103,8 +113,9 @@ float dipole_rd(int c, float r)
     return frame.alpha_prime[c] / (4.0 * PI) * (real + virt);
 }
 
-// Per-pixel rotation of the sample pattern turns structured aliasing into fine noise; a hash
-// keeps it deterministic.
+// Rotation of the sample pattern per block turns structured aliasing into noise, which the compose
+// pass's blend of four blocks then averages; a hash keeps it deterministic. (Quarter turns
+// interleaved over 2x2 blocks measured the same and draw a regular pattern.)
 float pixel_rotation(ivec2 px)
 {
     uint h = uint(px.x) * 1973u + uint(px.y) * 9277u + 26699u;
@@ -132,7 +143,7 @@ vec3 prefiltered_flux(int k, vec2 at, float area_texels)
     return textureLod(projection_images, vec3(uv, float(k)), lod).rgb;
 }
 
-// Sums flux x R_d x weight over the sample pattern around p in projection image k; each sample's
+// Sums flux x R_d x weight over the far annulus's sample pattern around p in projection image k; each sample's
 // weight is the surface area (mm^2) it stands for. The distance to each sample is its exact lateral
 // offset plus a depth difference. Within a texel of p the image cannot resolve the surface better
 // than p's tangent plane, so the depth comes from that plane; farther out it is the depth of the
@@ -155,9 +166,6 @@ vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px)
     float home_depth = inside(k, home) ? texelFetch(projection_images, ivec3(home, k), 0).a : -1.0;
     if (home_depth >= 0.0)
         depth = home_depth + dot(center - (vec2(home) + 0.5), slope);
-    // Kernels far below a texel: the sum is the point's own irradiance times the integral of R_d.
-    if (SAMPLES == 0)
-        return home_depth >= 0.0 ? surface_irradiance(k, home, n) * frame.rd_total.rgb : vec3(0.0);
     float texels_per_mm2 = 1.0 / (mm_per_texel * mm_per_texel);
     vec3 sum = vec3(0.0);
     for (int c = 0; c < (SHARED_SAMPLES ? 1 : 3); c++) {
@@ -230,7 +238,128 @@ vec3 single_scattered(vec3 p, vec3 n, vec3 to_eye, vec3 lit)
     return (free_sum + visible * shadowed_sum) * frame.single_albedo.rgb * fresnel_transmittance(eta, cos_o);
 }
 
-void main()
+// The irradiance entering at p as view k saw it (its texel; 0 where the view does not see p).
+vec3 own_irradiance(int k, vec3 p, vec3 n)
+{
+    ivec2 home = ivec2(floor(texel_coord(k, p)));
+    bool seen = inside(k, home) && texelFetch(projection_images, ivec3(home, k), 0).a >= 0.0;
+    return seen ? surface_irradiance(k, home, n) : vec3(0.0);
+}
+
+// R_d integrated over what the far samples leave out, the disc of radius rd_total.w in the
+// projection plane of a view facing the surface by cosine c: on the surface an ellipse, tabulated
+// over the tilt by frame_plan.c. The near part of the integral is the point's own irradiance times
+// this. Kernels far below a texel (the diffuse limit) are all near part.
+vec3 rd_near(float c)
+{
+    if (SAMPLES == 0)
+        return frame.rd_total.rgb;
+    float at = (1.0 / max(c, MIN_AREA_COS) - 1.0) / (1.0 / MIN_AREA_COS - 1.0) * float(NEAR_TABLE - 1);
+    int i = min(int(at), NEAR_TABLE - 2);
+    return mix(frame.near_rd[i].rgb, frame.near_rd[i + 1].rgb, at - float(i));
+}
+
+// Weight of the second view where the next best view faces the point almost as well: both are
+// integrated and blended, half and half where they face it equally, so the choice of view changes
+// the image smoothly. Returns 0 (and k2 -1) where no blend applies.
+float second_view(vec3 p, vec3 n, int k, out int k2)
+{
+    k2 = -1;
+    if (VIEW_COUNT == 1 || FRONT_FALLBACK)
+        return 0.0;
+    k2 = choose_view(p, n, k);
+    return k2 < 0 ? 0.0 : 0.5 * clamp(1.0 - (view_score(k, n) - view_score(k2, n)) / VIEW_BLEND, 0.0, 1.0);
+}
+
+vec3 far_light(vec3 p, vec3 n, int k, int k2, float w2, ivec2 px)
+{
+    vec3 far = scattered_light(k, p, n, px);
+    if (w2 > 0.0)
+        far = mix(far, scattered_light(k2, p, n, px), w2);
+    return far;
+}
+
+// Unit vectors in two numbers (octahedral map), to keep a far sample in two vec4.
+vec2 octahedral(vec3 n)
+{
+    n /= abs(n.x) + abs(n.y) + abs(n.z);
+    vec2 o = n.xy;
+    if (n.z < 0.0)
+        o = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+    return o;
+}
+
+vec3 from_octahedral(vec2 o)
+{
+    vec3 n = vec3(o, 1.0 - abs(o.x) - abs(o.y));
+    float t = max(-n.z, 0.0);
+    n.xy -= t * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+    return normalize(n);
+}
+
+// One block of FAR_BLOCK^2 pixels: the far annulus integrated at its covered pixel nearest the block's
+// centre. CPU drivers run a loop body as often as its slowest lane: the pixel is found first.
+void far_main()
+{
+    ivec2 blocks = (push.size + FAR_BLOCK - 1) / FAR_BLOCK, bp = ivec2(gl_GlobalInvocationID.xy);
+    if (bp.x >= blocks.x || bp.y >= blocks.y)
+        return;
+    uint idx = uint(bp.y * blocks.x + bp.x);
+    ivec2 px = ivec2(-1);
+    float nearest = 1e9;
+    [[unroll]] for (int i = 0; i < FAR_BLOCK * FAR_BLOCK; i++) {
+        ivec2 at = FAR_BLOCK * bp + ivec2(i % FAR_BLOCK, i / FAR_BLOCK);
+        vec2 off = vec2(i % FAR_BLOCK, i / FAR_BLOCK) - 0.5 * float(FAR_BLOCK - 1);
+        float dist = dot(off, off);
+        if (at.x < push.size.x && at.y < push.size.y && dist < nearest && texelFetch(gbuffer_normal, at, 0).w != 0.0) {
+            px = at;
+            nearest = dist;
+        }
+    }
+    if (px.x < 0) {
+        far_samples[idx] = FarSample(vec4(0.0), vec4(0.0, 0.0, 0.0, -1.0));
+        return;
+    }
+    vec3 p = texelFetch(gbuffer_position, px, 0).xyz;
+    vec3 n = normalize(texelFetch(gbuffer_normal, px, 0).xyz);
+    int k = choose_view(p, n, -1), k2;
+    float w2 = second_view(p, n, k, k2);
+    far_samples[idx] = FarSample(vec4(far_light(p, n, k, k2, w2, bp), uintBitsToFloat(packSnorm2x16(octahedral(n)))),
+                                 vec4(p, float(px.x + 4096 * px.y)));
+}
+
+// The far part at a pixel: the four block samples around it, weighted by a tent of one block's
+// radius over the pixels they were integrated at and by how well they lie on p's tangent plane
+// (within the near disc's radius) and share p's normal, so light does not leak across depth steps
+// and creases. The far part changes slowly by construction (no light nearer than the near disc).
+// Where few samples share p's surface (edges, creases, thin parts), it leans on `local`, the far
+// part of a plane lit as p is.
+vec3 upsampled_far(ivec2 px, vec3 p, vec3 n, vec3 local)
+{
+    ivec2 blocks = (push.size + FAR_BLOCK - 1) / FAR_BLOCK;
+    ivec2 first = ivec2(floor((vec2(px) + 0.5) / float(FAR_BLOCK) - 0.5));
+    float inv_tolerance = min(frame.params.y / frame.rd_total.w, 1e30);   // blocks of 1: no disc
+    vec3 sum = vec3(0.0);
+    float weights = 0.0, tents = 0.0;
+    [[unroll]] for (int i = 0; i < 4; i++) {
+        ivec2 q = clamp(first + ivec2(i & 1, i >> 1), ivec2(0), blocks - 1);
+        FarSample f = far_samples[q.y * blocks.x + q.x];
+        int at = int(f.position.w);
+        vec2 d = max(1.0 - abs(vec2(at & 4095, at >> 12) - vec2(px)) / float(FAR_BLOCK), 0.0);
+        float tent = at >= 0 ? d.x * d.y : 0.0;
+        float plane = dot(n, f.position.xyz - p) * inv_tolerance;
+        float facing = max(dot(n, from_octahedral(unpackSnorm2x16(floatBitsToUint(f.diffuse.w)))), 0.0);
+        facing *= facing;
+        float w = tent * max(1.0 - plane * plane, 0.0) * facing * facing;
+        sum += f.diffuse.rgb * w;
+        weights += w;
+        tents += tent;
+    }
+    float trust = smoothstep(0.0, 0.5, weights / max(tents, 1e-6));
+    return mix(local, sum / max(weights, 1e-12), trust);
+}
+
+void compose_main()
 {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     if (px.x >= push.size.x || px.y >= push.size.y)
@@ -246,25 +375,29 @@ void main()
     vec4 position_depth = texelFetch(gbuffer_position, px, 0);
     vec3 p = position_depth.xyz;
     vec3 n = normalize(normal_coverage.xyz);
-    int k = choose_view(p, n, -1);
+    int k = choose_view(p, n, -1), k2;
+    float w2 = second_view(p, n, k, k2);
+    vec3 irradiance = own_irradiance(k, p, n), near = rd_near(view_score(k, n));
+    if (w2 > 0.0) {
+        irradiance = mix(irradiance, own_irradiance(k2, p, n), w2);
+        near = mix(near, rd_near(view_score(k2, n)), w2);
+    }
+    vec3 diffuse = irradiance * near;
+    if (SAMPLES > 0)
+        diffuse += upsampled_far(px, p, n, irradiance * (frame.rd_total.rgb - near));
     vec3 to_eye = normalize(frame.camera_eye.xyz - p);
-    float ft_out = fresnel_transmittance(frame.params.x, dot(n, to_eye));
-    vec3 diffuse = scattered_light(k, p, n, px);
-    // Where the next best view faces the point almost as well, both are integrated and blended, half
-    // and half where they face it equally: the choice of view then changes the image smoothly.
-    if (VIEW_COUNT > 1 && !FRONT_FALLBACK) {
-        int k2 = choose_view(p, n, k);
-        float w2 = k2 < 0 ? 0.0 : 0.5 * clamp(1.0 - (view_score(k, n) - view_score(k2, n)) / VIEW_BLEND, 0.0, 1.0);
-        if (w2 > 0.0)
-            diffuse = mix(diffuse, scattered_light(k2, p, n, px), w2);
-    }
-    vec3 radiance = diffuse * (ft_out / PI);
-    if (SINGLE_SCATTERING) {
-        ivec2 home = ivec2(floor(texel_coord(k, p)));
-        bool seen = inside(k, home) && texelFetch(projection_images, ivec3(home, k), 0).a >= 0.0;
-        radiance += single_scattered(p, n, to_eye, seen ? surface_irradiance(k, home, n) : vec3(0.0));
-    }
+    vec3 radiance = diffuse * (fresnel_transmittance(frame.params.x, dot(n, to_eye)) / PI);
+    if (SINGLE_SCATTERING)
+        radiance += single_scattered(p, n, to_eye, irradiance);
     out_color[idx] = vec4(radiance, 1.0);
     out_normal_view[idx] = vec4(n, float(k));
     out_depth[idx] = position_depth.w;
+}
+
+void main()
+{
+    if (PASS_FAR)
+        far_main();
+    else
+        compose_main();
 }

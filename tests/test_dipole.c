@@ -83,7 +83,18 @@ static void preset_reflectance(void)
     check("all 12 presets known", count == 12 && lucent_material_preset_name(12) == NULL);
 }
 
-/* Plane integral from the sampling table's numerical CDF against the closed form, every preset. */
+/* Where the sampling table puts radius j of n over r_min..r_max: its share of the annulus integral
+ * (closed form) must be (j + 1/2) / n. Returns the worst difference, in units of 1/n. */
+static double placement_error(const struct dipole *d, double r_min, double r_max, int n, const double *radii)
+{
+    double lo = dipole_rd_disc(d, r_min), span = dipole_rd_disc(d, r_max) - lo, worst = 0.0;
+    for (int j = 0; j < n; j++)
+        worst = fmax(worst, fabs((dipole_rd_disc(d, radii[j]) - lo) / span - (j + 0.5) / n) * n);
+    return worst;
+}
+
+/* Plane integral against the closed form, and the table's numerical CDF placing the radii where the
+ * closed form says, every preset. */
 static void energy_conservation(void)
 {
     double radii[64], weights[64];
@@ -98,22 +109,27 @@ static void energy_conservation(void)
             double r_max = 200.0 / d.sigma_tr;
             char what[80];
             snprintf(what, sizeof what, "plane integral = closed form, %s ch%d", lucent_material_preset_name(i), c);
-            check_close(what, dipole_sample_radii(&d, r_max, 16, radii, weights), dipole_rd_total(&d), 1e-3);
+            check_close(what, dipole_sample_radii(&d, 0.0, r_max, 16, radii, weights), dipole_rd_total(&d), 1e-3);
+            snprintf(what, sizeof what, "radii placed by the CDF, %s ch%d (1/n)", lucent_material_preset_name(i), c);
+            check_close(what, 1.0 + placement_error(&d, 0.0, r_max, 16, radii), 1.0, 1e-2);
         }
     }
 }
 
-/* The disc integral's closed form against the numerical table, and its limit. */
+/* The disc integral's closed form against a numerical integral of 2 pi r R_d, and its limit. */
 static void disc_integral(void)
 {
     struct dipole d;
-    double radii[1], weights[1];
     dipole_init(&d, 0.032, 0.74, 1.3);
     const double r[] = {0.1, 1.0, 5.0};
     for (int i = 0; i < 3; i++) {
+        enum { STEPS = 200000 };
+        double sum = 0.0, h = r[i] / STEPS;
+        for (int k = 0; k < STEPS; k++)
+            sum += 2.0 * 3.14159265358979323846 * (k + 0.5) * h * dipole_rd(&d, (k + 0.5) * h) * h;
         char what[64];
         snprintf(what, sizeof what, "Skin1 red disc integral to %.1f mm", r[i]);
-        check_close(what, dipole_rd_disc(&d, r[i]), dipole_sample_radii(&d, r[i], 1, radii, weights), 1e-3);
+        check_close(what, dipole_rd_disc(&d, r[i]), sum, 1e-4);
     }
     check_close("disc integral to 1e6 mm = R_d total", dipole_rd_disc(&d, 1e6), dipole_rd_total(&d), 1e-9);
     dipole_init(&d, 0.0, 1e4, 1.0);
@@ -128,7 +144,7 @@ static void extremes(void)
     check_close("Spectralon R_d total = 1 (sigma_tr = 0)", dipole_rd_total(&d), 1.0, 1e-12);
     check("Spectralon R_d(0), R_d(1e4 mm) finite and > 0",
           isfinite(dipole_rd(&d, 0.0)) && dipole_rd(&d, 1e4) > 0.0 && isfinite(dipole_rd(&d, 1e4)));
-    double total = dipole_sample_radii(&d, 50.0, 64, radii, weights);
+    double total = dipole_sample_radii(&d, 0.0, 50.0, 64, radii, weights);
     int ok = isfinite(total) && total > 0.9 && total < 1.0;
     for (int j = 0; j < 64; j++)
         ok &= isfinite(radii[j]) && isfinite(weights[j]) && radii[j] <= 50.0 && (j == 0 || radii[j] > radii[j - 1]);
@@ -138,7 +154,7 @@ static void extremes(void)
     const double sigmas[] = {1e-4, 1e-2, 1.0, 1e2, 1e4};
     for (int i = 0; i < 5; i++) {
         dipole_init(&d, 0.01, sigmas[i], 1.0);
-        double t = dipole_sample_radii(&d, 1e3, 16, radii, weights);
+        double t = dipole_sample_radii(&d, 0.0, 1e3, 16, radii, weights);
         int fine = isfinite(t) && t >= 0.0;
         for (int j = 0; j < 16; j++)
             fine &= isfinite(radii[j]) && isfinite(weights[j]) && weights[j] > 0.0;
@@ -147,7 +163,7 @@ static void extremes(void)
         check(what, fine);
     }
     dipole_init(&d, 0.5, 0.74, 1.3);
-    double t = dipole_sample_radii(&d, 1e3, 16, radii, weights);
+    double t = dipole_sample_radii(&d, 0.0, 1e3, 16, radii, weights);
     double spread = 0.0;
     for (int j = 0; j < 16; j++)
         spread = fmax(spread, fabs(weights[j] * dipole_rd(&d, radii[j]) / t - 1.0));
@@ -167,10 +183,10 @@ static void mixture_quadrature(void)
             dipole_init(&d[c], m.sigma_a[c], m.sigma_s_prime[c], m.eta);
         for (int k = 0; k < 3; k++) {
             int n = counts[k];
-            dipole_mixture_radii(d, 50.0, n, radii, weights);
+            dipole_mixture_radii(d, 0.0, 50.0, n, radii, weights);
             double worst = 0.0;
             for (int c = 0; c < 3; c++) {
-                double want = dipole_sample_radii(&d[c], 50.0, 1, one, w1), got = 0.0;
+                double want = dipole_sample_radii(&d[c], 0.0, 50.0, 1, one, w1), got = 0.0;
                 for (int j = 0; j < n; j++)
                     got += dipole_rd(&d[c], radii[j]) * weights[j];
                 worst = fmax(worst, fabs(got / want - 1.0));
@@ -183,9 +199,45 @@ static void mixture_quadrature(void)
     }
 }
 
+/* Sampling an annulus (the far part of the scatter pass; the disc inside is its near part):
+ * the estimates integrate R_d between the radii, per channel and for the shared table. */
+static void annulus_quadrature(void)
+{
+    double radii[64], weights[64];
+    lucent_material m;
+    lucent_material_preset("skin1", &m);
+    struct dipole d[3];
+    for (int c = 0; c < 3; c++)
+        dipole_init(&d[c], m.sigma_a[c], m.sigma_s_prime[c], m.eta);
+    const double inner[] = {0.05, 0.5, 5.0};
+    for (int i = 0; i < 3; i++) {
+        double want = dipole_rd_disc(&d[0], 50.0) - dipole_rd_disc(&d[0], inner[i]);
+        double got = dipole_sample_radii(&d[0], inner[i], 50.0, 16, radii, weights);
+        int inside = 1;
+        for (int j = 0; j < 16; j++)
+            inside &= radii[j] >= inner[i] && radii[j] <= 50.0;
+        char what[96];
+        snprintf(what, sizeof what, "Skin1 red annulus %.2f-50 mm: integral (radii inside: %d)", inner[i], inside);
+        check_close(what, inside ? got : -1.0, want, 2e-3);
+        snprintf(what, sizeof what, "Skin1 red annulus %.2f-50 mm: radii placed by the CDF (1/n)", inner[i]);
+        check_close(what, 1.0 + placement_error(&d[0], inner[i], 50.0, 16, radii), 1.0, 1e-2);
+        dipole_mixture_radii(d, inner[i], 50.0, 16, radii, weights);
+        double worst = 0.0;
+        for (int c = 0; c < 3; c++) {
+            double sum = 0.0, ring = dipole_rd_disc(&d[c], 50.0) - dipole_rd_disc(&d[c], inner[i]);
+            for (int j = 0; j < 16; j++)
+                sum += dipole_rd(&d[c], radii[j]) * weights[j];
+            worst = fmax(worst, fabs(sum / ring - 1.0));
+        }
+        snprintf(what, sizeof what, "Skin1 annulus %.2f-50 mm, shared table, 16 samples: worst channel", inner[i]);
+        check_close(what, 1.0 + worst, 1.0, 0.02);
+    }
+}
+
 int main(void)
 {
     mixture_quadrature();
+    annulus_quadrature();
     disc_integral();
     boundary_terms();
     skin1_profile();

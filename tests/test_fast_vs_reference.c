@@ -66,6 +66,19 @@ static const struct scored_case cases[] = {
      {{0.0915, 0.0687, 19.64, 0.73, 0.0787, 1.0099},
       {0.1068, 0.1059, 18.36, 0.71, 0.0717, 0.9908},
       {0.0885, 0.1015, 18.39, 0.69, 0.05, 0.9901}}, 0},
+    /* larger images integrate the far part once per block of 2x2 (256^2) and 4x4 (512^2) pixels */
+    {BUNNY, "bunny", "[-1,0,0]", "marble", 256,
+     {{0.0841, 0.1651, 1.596, 0.55, 0.0221, 0.9761},
+      {0.0619, 0.0622, 1.574, 0.54, 0.0194, 0.9720},
+      {0.0632, 0.0598, 1.122, 0.60, 0.0195, 0.9665}}, 1},
+    {CUBE, "cube", "[-1,0,0]", "marble", 256,
+     {{0.0720, 0.0568, 4.804, 0.68, 0.0393, 1.0405},
+      {0.0853, 0.0927, 4.302, 0.69, 0.0419, 0.9893},
+      {0.0844, 0.0929, 4.124, 0.71, 0.0415, 0.9822}}, 0},
+    {BUNNY, "bunny", "[-1,0,0]", "marble", 512,
+     {{0.0812, 0.1503, 1.508, 0.55, 0.0166, 0.9750},
+      {0.0614, 0.0552, 1.481, 0.54, 0.0134, 0.9716},
+      {0.0627, 0.0544, 1.044, 0.59, 0.0135, 0.9661}}, 1},
 };
 
 static int within(const char *name, double got, double bound, char *buf, size_t cap)
@@ -108,14 +121,14 @@ static void score(lucent_renderer *r, const struct scored_case *c, const char *m
         snprintf(line + used, sizeof line - used, " mean ratio %.4f", e.mean_ratio);
         ok &= within("|mean ratio - 1|", fabs(e.mean_ratio - 1.0),
                      fmax(ERROR_MARGIN * fabs(w->mean_ratio - 1.0), MEAN_FLOOR), line, sizeof line);
-        test_check(ok, "%-10s %-7s light %-8s {%s}:%s; band %d px, coverage mismatch %d", name, c->material,
-                   c->light, modes[m], line, e.band.pixels, e.coverage_mismatch);
+        test_check(ok, "%-10s %3d %-7s light %-8s {%s}:%s; band %d px, coverage mismatch %d", name, c->side,
+                   c->material, c->light, modes[m], line, e.band.pixels, e.coverage_mismatch);
         band[m] = e.band.rel_l2;
         lucent_image_free(&img);
     }
     if (c->claim)
-        test_check(band[1] < band[0], "%s %s light %s: five views beat one in the silhouette band, rel L2 %.4f vs "
-                                      "%.4f (ratio %.2f)", name, c->material, c->light, band[1], band[0],
+        test_check(band[1] < band[0], "%s %d %s light %s: five views beat one in the silhouette band, rel L2 %.4f vs "
+                                      "%.4f (ratio %.2f)", name, c->side, c->material, c->light, band[1], band[0],
                    band[1] / band[0]);
     lucent_image_free(&ref);
 }

@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
 # trade_subset.sh - a five-minute subset of the trade for before/after comparisons of the integration:
 # sphere, torus, protrusion, bunny and a flat-faced cube x front and side light x marble and skin1 at
-# 256^2, default five (both builds) and single and auto (after), scored against "reference" with
-# --compare; writes every case to OUT.csv and prints the medians and worst cases (not a test).
-# usage: trade_subset.sh BEFORE/lucent-render AFTER/lucent-render BUNNY.obj OUT.csv
+# 256^2 (or SIZE^2), default five (both builds) and single and auto (after), scored against "reference"
+# with --compare; writes every case to OUT.csv and prints the medians and worst cases (not a test).
+# usage: trade_subset.sh BEFORE/lucent-render AFTER/lucent-render BUNNY.obj OUT.csv [SIZE]
 set -euo pipefail
-if [[ $# -ne 4 ]]; then
-    echo "usage: $0 BEFORE/lucent-render AFTER/lucent-render BUNNY.obj OUT.csv" >&2
+if [[ $# -ne 4 && $# -ne 5 ]] || ! [[ ${5:-256} =~ ^[0-9]+$ ]]; then
+    echo "usage: $0 BEFORE/lucent-render AFTER/lucent-render BUNNY.obj OUT.csv [SIZE]" >&2
     exit 2
 fi
-before=$1 after=$2 bunny=$3 out=$4
+before=$1 after=$2 bunny=$3 out=$4 size=${5:-256}
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 
@@ -52,7 +52,7 @@ for mesh in sphere torus protrusion bunny cube; do
     for light in 'front:[0,0,-1]' 'side:[-1,0,0]'; do
         for material in marble skin1; do
             name="$mesh-${light%%:*}-$material"
-            base="\"mesh\":$m,\"material\":{\"preset\":\"$material\"},\"lights\":[{\"direction\":${light#*:}}],\"width\":256,\"height\":256,\"format\":\"exr\"$cam"
+            base="\"mesh\":$m,\"material\":{\"preset\":\"$material\"},\"lights\":[{\"direction\":${light#*:}}],\"width\":$size,\"height\":$size,\"format\":\"exr\"$cam"
             echo "{$base,\"method\":\"reference\"}" > "$dir/ref.json"
             "$after" "$dir/ref.json" -o "$dir/ref.exr" >/dev/null
             echo "{$base}" > "$dir/five.json"
