@@ -1,6 +1,7 @@
 /* test_render_modelled.c - what the renderer chooses to model, and that each choice shows in the image:
- * shadow maps and their skip rules, self-shadowing, method auto's choices, the paper's front fallback
- * and the point light's 1/d^2 falloff, each against what `modelled` reports or a closed form. */
+ * shadow maps and their skip rules, self-shadowing, method auto's choices, the paper's front fallback,
+ * the point light's 1/d^2 falloff and the far annulus's block size, each against what `modelled`
+ * reports or a closed form. */
 #include "dipole.h"
 #include "test_support.h"
 
@@ -258,6 +259,31 @@ static void check_fallback(lucent_renderer *r, const char *bunny)
         lucent_image_free(&img[k]);
 }
 
+/* ---- the far annulus per block of pixels: block size by image size, the near disc one block wide ---- */
+
+static void check_far_blocks(lucent_renderer *r)
+{
+    const int sides[] = {96, 200, 400}, blocks[] = {1, 2, 4};
+    double disc[3];
+    for (int i = 0; i < 3; i++) {
+        char json[300];
+        snprintf(json, sizeof json, "{\"mesh\":{\"builtin\":\"sphere\"},\"width\":%d,\"height\":%d}", sides[i],
+                 sides[i]);
+        lucent_image img;
+        lucent_stats stats;
+        test_render(r, json, &img, &stats);
+        double block = report_number(stats.modelled, "far_block_pixels");
+        disc[i] = report_number(stats.modelled, "near_disc_mm");
+        test_check(block == blocks[i] && (i == 0 ? disc[i] == 0.0 : disc[i] > 0.0),
+                   "%dx%d: far annulus per block of %g pixels (want %d), near disc %g mm", sides[i], sides[i], block,
+                   blocks[i], disc[i]);
+        lucent_image_free(&img);
+    }
+    /* A block of 4 at 400 px and of 2 at 200 px cover the same area: the same disc. */
+    test_check(fabs(disc[2] / disc[1] - 1.0) < 1e-6, "near disc at 400 px / at 200 px: %.6f (want 1)",
+               disc[2] / disc[1]);
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2) {
@@ -281,6 +307,7 @@ int main(int argc, char **argv)
     check_point_falloff(r, square);
     check_auto_choices(r, square);
     check_fallback(r, argv[1]);
+    check_far_blocks(r);
     lucent_renderer_destroy(r);
     unlink(square);
     unlink(shelf);
