@@ -150,20 +150,26 @@ static double cdf_at(const struct radial_cdf *t, double r)
     return t->cdf[lo] + f * (t->cdf[hi] - t->cdf[lo]);
 }
 
+/* n radii stratified over the table's integral between r_min and its end. The table only places
+ * them; the callers weight them with the closed form, so a sampled annulus and the closed-form disc
+ * inside it add up to the plane integral without the table's quadrature error. */
+static void stratify(const struct radial_cdf *t, double r_min, int n, double *radii)
+{
+    double lo = cdf_at(t, r_min), span = t->cdf[GRID] - lo;
+    for (int j = 0; j < n; j++)
+        radii[j] = invert_cdf(t, lo + span * (j + 0.5) / n);
+}
+
 double dipole_sample_radii(const struct dipole *d, double r_min, double r_max, int n, double *radii,
                            double *weights)
 {
     static _Thread_local struct radial_cdf table;
     struct profile p = {d, 1, {1.0}};
     build_cdf(&p, r_max, &table);
-    double lo = cdf_at(&table, r_min), table_span = table.cdf[GRID] - lo;
-    /* The table places the radii; the weights use the closed form, so a sampled annulus and the
-     * closed-form disc inside it add up to the plane integral without the table's quadrature error. */
+    stratify(&table, r_min, n, radii);
     double span = dipole_rd_disc(d, r_max) - dipole_rd_disc(d, r_min);
-    for (int j = 0; j < n; j++) {
-        radii[j] = invert_cdf(&table, lo + table_span * (j + 0.5) / n);
+    for (int j = 0; j < n; j++)
         weights[j] = span / dipole_rd(d, radii[j]);
-    }
     return span;
 }
 
@@ -174,13 +180,12 @@ void dipole_mixture_radii(const struct dipole d[3], double r_min, double r_max, 
     struct profile p = {d, 3, {0}};
     double span = 0.0;
     for (int c = 0; c < 3; c++) {
-        p.scale[c] = 1.0 / (3.0 * dipole_rd_disc(&d[c], r_max));
-        span += p.scale[c] * (dipole_rd_disc(&d[c], r_max) - dipole_rd_disc(&d[c], r_min));
+        double total = dipole_rd_disc(&d[c], r_max);
+        p.scale[c] = 1.0 / (3.0 * total);
+        span += p.scale[c] * (total - dipole_rd_disc(&d[c], r_min));
     }
     build_cdf(&p, r_max, &table);
-    double lo = cdf_at(&table, r_min), table_span = table.cdf[GRID] - lo;
-    for (int j = 0; j < n; j++) {
-        radii[j] = invert_cdf(&table, lo + table_span * (j + 0.5) / n);
+    stratify(&table, r_min, n, radii);
+    for (int j = 0; j < n; j++)
         weights[j] = span / (n * profile_at(&p, radii[j]));
-    }
 }
