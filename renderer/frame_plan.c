@@ -285,6 +285,11 @@ int frame_far_block(int width, int height)
     return pixels > 320 * 320 ? 4 : pixels > 128 * 128 ? 2 : 1;
 }
 
+uint32_t frame_far_blocks(uint32_t pixels, uint32_t block)
+{
+    return (pixels + block - 1) / block;
+}
+
 int frame_side_projection_size(const lucent_scene *scene)
 {
     int side = scene->side_projection_size ? scene->side_projection_size : scene->projection_size / 2;

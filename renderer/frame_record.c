@@ -195,7 +195,7 @@ static void record_scatter(const struct frame_gpu *gpu, VkPipeline far, VkPipeli
     vkCmdPushConstants(cmd, gpu->pipes->scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof size, size);
     if (far) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, far);
-        vkCmdDispatch(cmd, ((w + block - 1) / block + 7) / 8, ((h + block - 1) / block + 7) / 8, 1);
+        vkCmdDispatch(cmd, (frame_far_blocks(w, block) + 7) / 8, (frame_far_blocks(h, block) + 7) / 8, 1);
         VkMemoryBarrier to_compose = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
                                       .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
                                       .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};

@@ -95,7 +95,7 @@ static lucent_status make_output(struct vk_context *ctx, struct render_targets *
     if (st != LUCENT_OK)
         return st;
     uint32_t b = (uint32_t)frame_far_block((int)t->width, (int)t->height);
-    VkDeviceSize blocks = (VkDeviceSize)((t->width + b - 1) / b) * ((t->height + b - 1) / b);
+    VkDeviceSize blocks = (VkDeviceSize)frame_far_blocks(t->width, b) * frame_far_blocks(t->height, b);
     return vk_buffer_create(ctx, blocks * RENDER_TARGETS_FAR_BYTES, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, &t->far, err);
 }
 

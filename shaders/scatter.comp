@@ -143,8 +143,8 @@ vec3 prefiltered_flux(int k, vec2 at, float area_texels)
     return textureLod(projection_images, vec3(uv, float(k)), lod).rgb;
 }
 
-// Sums flux x R_d x weight over the far annulus's sample pattern around p in projection image k; each sample's
-// weight is the surface area (mm^2) it stands for. The distance to each sample is its exact lateral
+// Sums flux x R_d x weight over the far annulus's sample pattern around p in projection image k; each
+// sample's weight is the surface area (mm^2) it stands for. The distance to each sample is its exact lateral
 // offset plus a depth difference. Within a texel of p the image cannot resolve the surface better
 // than p's tangent plane, so the depth comes from that plane; farther out it is the depth of the
 // texel the sample lands in, moved from the texel centre to the sample along the tangent plane and
@@ -297,19 +297,25 @@ vec3 from_octahedral(vec2 o)
     return normalize(n);
 }
 
+// Blocks across the image (frame_far_blocks() in frame_plan.c), the last row and column partial.
+ivec2 far_blocks()
+{
+    return (push.size + FAR_BLOCK - 1) / FAR_BLOCK;
+}
+
 // One block of FAR_BLOCK^2 pixels: the far annulus integrated at its covered pixel nearest the block's
 // centre. CPU drivers run a loop body as often as its slowest lane: the pixel is found first.
 void far_main()
 {
-    ivec2 blocks = (push.size + FAR_BLOCK - 1) / FAR_BLOCK, bp = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 blocks = far_blocks(), bp = ivec2(gl_GlobalInvocationID.xy);
     if (bp.x >= blocks.x || bp.y >= blocks.y)
         return;
     uint idx = uint(bp.y * blocks.x + bp.x);
     ivec2 px = ivec2(-1);
     float nearest = 1e9;
     [[unroll]] for (int i = 0; i < FAR_BLOCK * FAR_BLOCK; i++) {
-        ivec2 at = FAR_BLOCK * bp + ivec2(i % FAR_BLOCK, i / FAR_BLOCK);
-        vec2 off = vec2(i % FAR_BLOCK, i / FAR_BLOCK) - 0.5 * float(FAR_BLOCK - 1);
+        ivec2 in_block = ivec2(i % FAR_BLOCK, i / FAR_BLOCK), at = FAR_BLOCK * bp + in_block;
+        vec2 off = vec2(in_block) - 0.5 * float(FAR_BLOCK - 1);
         float dist = dot(off, off);
         if (at.x < push.size.x && at.y < push.size.y && dist < nearest && texelFetch(gbuffer_normal, at, 0).w != 0.0) {
             px = at;
@@ -336,7 +342,7 @@ void far_main()
 // part of a plane lit as p is.
 vec3 upsampled_far(ivec2 px, vec3 p, vec3 n, vec3 local)
 {
-    ivec2 blocks = (push.size + FAR_BLOCK - 1) / FAR_BLOCK;
+    ivec2 blocks = far_blocks();
     ivec2 first = ivec2(floor((vec2(px) + 0.5) / float(FAR_BLOCK) - 0.5));
     float inv_tolerance = min(frame.params.y / frame.rd_total.w, 1e30);   // blocks of 1: no disc
     vec3 sum = vec3(0.0);
