@@ -271,6 +271,7 @@ static void plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
     }
     u->rd_total[3] = (float)r_near;
     u->single_albedo[3] = (float)g;
+    u->owned[0] = (float)frame_owned_shift(s->projection_size);
     if (plan->scatter_samples == 0)
         return;
     if (s->sampling == LUCENT_SAMPLING_SHARED)
@@ -283,6 +284,14 @@ int frame_far_block(int width, int height)
 {
     long pixels = (long)width * height;
     return pixels > 320 * 320 ? 4 : pixels > 128 * 128 ? 2 : 1;
+}
+
+int frame_owned_shift(int projection_size)
+{
+    int shift = 0;
+    while (shift < 2 && (projection_size >> shift) > 128)
+        shift++;
+    return shift;
 }
 
 uint32_t frame_far_blocks(uint32_t pixels, uint32_t block)

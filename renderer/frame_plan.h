@@ -17,6 +17,12 @@
  * Measured: at 256^2 blocks of 4 draw blotches (side-lit bunny noise 0.027 against 0.020) and at
  * 512^2 they are as close to the reference as 2 at a quarter of the cost. */
 int frame_far_block(int width, int height);
+/* The owned images (ownership.comp: each view's share of the flux, what the far annulus gathers) have
+ * the projection images' side >> this: 128 texels or more for the front view, at most 4x coarser.
+ * Measured at projection 512: the side-lit bunny as close to the reference at 128 as at 256, and the
+ * ownership pass 4x cheaper; at projection 64 a 16-texel front image doubled the error of small
+ * renders (render_extremes). */
+int frame_owned_shift(int projection_size);
 /* Blocks along an image side of `pixels` pixels, the last one partial where the side is not a multiple. */
 uint32_t frame_far_blocks(uint32_t pixels, uint32_t block);
 

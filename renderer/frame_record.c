@@ -1,6 +1,7 @@
 /* frame_record.c - turns a frame plan into commands. Pass order matters: shadow maps feed the
- * projection images (and their mip chain), which with the G-buffer feed the scatter pass; render-pass
- * dependencies and the barriers around the side-image copy and the mip blits carry the data between them. */
+ * projection images, each view's share of them (the owned images) and their mip chain, which with the
+ * G-buffer feed the scatter pass; render-pass dependencies and the barriers around the side-image copy,
+ * the ownership pass and the mip blits carry the data between them. */
 #include "frame_record.h"
 
 #include <string.h>
@@ -63,11 +64,11 @@ static void record_projection_pass(const struct frame_gpu *gpu, int which, const
     VkCommandBuffer cmd = gpu->ctx->cmd;
     const struct render_targets *t = gpu->targets;
     /* Depth -1 marks texels no surface covers. */
-    VkClearValue clears[2] = {{.color = {{0.0f, 0.0f, 0.0f, -1.0f}}}, {.depthStencil = {1.0f, 0}}};
+    VkClearValue clears[3] = {{.color = {{0.0f, 0.0f, 0.0f, -1.0f}}}, {.color = {{0}}}, {.depthStencil = {1.0f, 0}}};
     uint32_t side = which == PROJECTION_FRONT ? t->projection_size : t->side_size;
     int32_t view_base = which == PROJECTION_FRONT ? 0 : 1;
     begin_pass(cmd, gpu->pipes->projection_pass[which], which == PROJECTION_FRONT ? t->front_fb : t->sides_fb,
-               side, side, clears, 2);
+               side, side, clears, 3);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, gpu->pipes->projection_layout, 0, 1,
                             &t->projection_set, 0, NULL);
@@ -78,53 +79,82 @@ static void record_projection_pass(const struct frame_gpu *gpu, int which, const
     vkCmdEndRenderPass(cmd);
 }
 
-/* The side images go into the top-left side_size^2 corner of layers 1-4 of the sampled array,
- * where the scatter pass's texel coordinates for those views point. */
+/* The side images (flux and depth, and normals) go into the top-left side_size^2 corner of layers 1-4
+ * of the sampled arrays, where the scatter pass's texel coordinates for those views point. */
 static void copy_sides(const struct frame_gpu *gpu)
 {
     VkCommandBuffer cmd = gpu->ctx->cmd;
     const struct render_targets *t = gpu->targets;
-    VkImageMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
-                              .srcAccessMask = VK_ACCESS_SHADER_READ_BIT,
-                              .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-                              .oldLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,   /* keeps the cleared rest */
-                              .newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                              .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                              .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                              .image = t->projection.image,
-                              .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 1, SIDE_VIEWS}};
+    VkImage from[2] = {t->sides.image, t->side_normals.image}, to[2] = {t->projection.image, t->normals.image};
+    VkImageMemoryBarrier b[2];
+    for (int i = 0; i < 2; i++)
+        b[i] = (VkImageMemoryBarrier){.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                                      .srcAccessMask = VK_ACCESS_SHADER_READ_BIT,
+                                      .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                                      .oldLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,   /* keeps the cleared rest */
+                                      .newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                                      .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                                      .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                                      .image = to[i],
+                                      .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 1, SIDE_VIEWS}};
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
-                         NULL, 0, NULL, 1, &b);
+                         NULL, 0, NULL, 2, b);
     VkImageCopy region = {.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, SIDE_VIEWS},
                           .dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, SIDE_VIEWS},
                           .extent = {t->side_size, t->side_size, 1}};
-    vkCmdCopyImage(cmd, t->sides.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, t->projection.image,
-                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-    b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-    b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-    b.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    for (int i = 0; i < 2; i++) {
+        vkCmdCopyImage(cmd, from[i], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, to[i], VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                       1, &region);
+        b[i].srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        b[i].dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+        b[i].oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+        b[i].newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    }
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
-                         NULL, 0, NULL, 1, &b);
+                         NULL, 0, NULL, 2, b);
 }
 
-static VkImageMemoryBarrier projection_barrier(const struct render_targets *t, uint32_t level, uint32_t levels,
-                                              VkImageLayout from, VkImageLayout to, VkAccessFlags src,
-                                              VkAccessFlags dst)
+static VkImageMemoryBarrier level_barrier(const struct vk_image *img, uint32_t level, uint32_t levels,
+                                         VkImageLayout from, VkImageLayout to, VkAccessFlags src, VkAccessFlags dst)
 {
     return (VkImageMemoryBarrier){.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER, .srcAccessMask = src,
                                   .dstAccessMask = dst, .oldLayout = from, .newLayout = to,
                                   .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                                  .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED, .image = t->projection.image,
+                                  .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED, .image = img->image,
                                   .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, level, levels, 0, FRAME_MAX_VIEWS}};
+}
+
+/* Each view's share of the flux it shows, into level 0 of the owned images (ownership.comp, from level
+ * frame_owned_shift() of the projection images): every texel of every view's square (the side
+ * layers' corners only), the front view and the four sides in one dispatch each. */
+static void record_ownership(const struct frame_gpu *gpu)
+{
+    VkCommandBuffer cmd = gpu->ctx->cmd;
+    const struct render_targets *t = gpu->targets;
+    VkImageMemoryBarrier b = level_barrier(&t->owned, 0, 1, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                           VK_IMAGE_LAYOUT_GENERAL, VK_ACCESS_SHADER_READ_BIT,
+                                           VK_ACCESS_SHADER_WRITE_BIT);
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL,
+                         0, NULL, 1, &b);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, gpu->pipes->ownership);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, gpu->pipes->scatter_layout, 0, 1, &t->scatter_set,
+                            0, NULL);
+    int32_t first_view[2] = {0, 0};
+    vkCmdPushConstants(cmd, gpu->pipes->scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof first_view, first_view);
+    int shift = frame_owned_shift((int)t->projection_size);
+    uint32_t front = t->projection_size >> shift, sides = t->side_size >> shift;
+    vkCmdDispatch(cmd, (front + 7) / 8, (front + 7) / 8, 1);
+    first_view[0] = 1;
+    vkCmdPushConstants(cmd, gpu->pipes->scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof first_view, first_view);
+    vkCmdDispatch(cmd, (sides + 7) / 8, (sides + 7) / 8, SIDE_VIEWS);
 }
 
 /* Level i of a layer is the 2x2 mean of level i-1: flux per unit of image area, averaged, so a texel
  * of level i holds the mean of the 4^i texels it covers (uncovered ones add no flux). The side views
  * fill a side_size^2 corner of their layers, and only that corner is reduced: what lies outside it
- * keeps the clear of render_targets.c (no flux). The depth in alpha is averaged too; the scatter pass reads depth
- * from level 0 only. */
-static void blit_level(VkCommandBuffer cmd, const struct render_targets *t, uint32_t level, uint32_t size,
+ * keeps the clear of render_targets.c (no flux). The depth in alpha is averaged too; the scatter pass
+ * reads depth from level 0 only. */
+static void blit_level(VkCommandBuffer cmd, const struct vk_image *img, uint32_t level, uint32_t size,
                        uint32_t first, uint32_t layers)
 {
     int32_t src = (int32_t)(size >> (level - 1)), dst = (int32_t)(size >> level);
@@ -132,37 +162,38 @@ static void blit_level(VkCommandBuffer cmd, const struct render_targets *t, uint
                         .srcOffsets = {{0, 0, 0}, {src, src, 1}},
                         .dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level, first, layers},
                         .dstOffsets = {{0, 0, 0}, {dst, dst, 1}}};
-    vkCmdBlitImage(cmd, t->projection.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, t->projection.image,
+    vkCmdBlitImage(cmd, img->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, img->image,
                    VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
 }
 
-static void record_mips(const struct frame_gpu *gpu, int five)
+/* The mip chain of the projection or the owned images, `levels` levels of it, whose level 0 (of side
+ * `size`, the side views' `side_size`) was just written in layout `written_as`. */
+static void record_mips(const struct frame_gpu *gpu, const struct vk_image *img, VkImageLayout written_as,
+                        uint32_t levels, uint32_t size, uint32_t side_size, int five)
 {
     VkCommandBuffer cmd = gpu->ctx->cmd;
-    const struct render_targets *t = gpu->targets;
     VkPipelineStageFlags drawn = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
                                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
-    VkAccessFlags written = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-    VkImageMemoryBarrier b = projection_barrier(t, 0, 1, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                                                VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, written, VK_ACCESS_TRANSFER_READ_BIT);
+    VkAccessFlags written = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
+                            VK_ACCESS_SHADER_WRITE_BIT;
+    VkImageMemoryBarrier b = level_barrier(img, 0, 1, written_as, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, written,
+                                           VK_ACCESS_TRANSFER_READ_BIT);
     vkCmdPipelineBarrier(cmd, drawn, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0, NULL, 1, &b);
-    for (uint32_t level = 1; level < t->projection.levels; level++) {
-        b = projection_barrier(t, level, 1, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_ACCESS_SHADER_READ_BIT,
-                               VK_ACCESS_TRANSFER_WRITE_BIT);
+    for (uint32_t level = 1; level < levels; level++) {
+        b = level_barrier(img, level, 1, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                          VK_ACCESS_SHADER_READ_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL,
                              0, NULL, 1, &b);
-        blit_level(cmd, t, level, t->projection_size, 0, 1);
-        if (five && t->side_size >> level)
-            blit_level(cmd, t, level, t->side_size, 1, SIDE_VIEWS);
-        b = projection_barrier(t, level, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                               VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+        blit_level(cmd, img, level, size, 0, 1);
+        if (five && side_size >> level)
+            blit_level(cmd, img, level, side_size, 1, SIDE_VIEWS);
+        b = level_barrier(img, level, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                          VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT);
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0,
                              NULL, 1, &b);
     }
-    b = projection_barrier(t, 0, t->projection.levels, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                           VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
-                           VK_ACCESS_SHADER_READ_BIT);
+    b = level_barrier(img, 0, levels, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT);
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL, 0,
                          NULL, 1, &b);
 }
@@ -184,8 +215,18 @@ static void record_gbuffer(const struct frame_gpu *gpu, const struct frame_plan 
     vkCmdEndRenderPass(cmd);
 }
 
-/* The far annulus per block of pixels (when the profile is sampled), then the compose pass per pixel. */
-static void record_scatter(const struct frame_gpu *gpu, VkPipeline far, VkPipeline compose, uint32_t block)
+static void compute_to_compute(VkCommandBuffer cmd)
+{
+    VkMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER, .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
+                         .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &b, 0,
+                         NULL, 0, NULL);
+}
+
+/* The far annulus per block of pixels and its filter (when the profile is sampled), then the compose
+ * pass per pixel. */
+static void record_scatter(const struct frame_gpu *gpu, VkPipeline far, VkPipeline filter, VkPipeline compose,
+                           uint32_t block)
 {
     VkCommandBuffer cmd = gpu->ctx->cmd;
     uint32_t w = gpu->targets->width, h = gpu->targets->height;
@@ -193,14 +234,11 @@ static void record_scatter(const struct frame_gpu *gpu, VkPipeline far, VkPipeli
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, gpu->pipes->scatter_layout, 0, 1,
                             &gpu->targets->scatter_set, 0, NULL);
     vkCmdPushConstants(cmd, gpu->pipes->scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof size, size);
-    if (far) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, far);
+    VkPipeline block_passes[2] = {far, filter};
+    for (int i = 0; far && i < 2; i++) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, block_passes[i]);
         vkCmdDispatch(cmd, (frame_far_blocks(w, block) + 7) / 8, (frame_far_blocks(h, block) + 7) / 8, 1);
-        VkMemoryBarrier to_compose = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-                                      .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
-                                      .dstAccessMask = VK_ACCESS_SHADER_READ_BIT};
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1,
-                             &to_compose, 0, NULL, 0, NULL);
+        compute_to_compute(cmd);
     }
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, compose);
     vkCmdDispatch(cmd, (w + 7) / 8, (h + 7) / 8, 1);
@@ -218,8 +256,10 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
     VkCommandBuffer cmd = gpu->ctx->cmd;
     const struct gpu_geometry *front_mesh = gpu_mesh_geometry(gm, PROXY_FRONT);
     const struct gpu_geometry *side_mesh = gpu_mesh_geometry(gm, PROXY_SIDES);
-    VkPipeline front, sides = VK_NULL_HANDLE, far = VK_NULL_HANDLE, compose;
+    VkPipeline front, sides = VK_NULL_HANDLE, far = VK_NULL_HANDLE, filter = VK_NULL_HANDLE, compose;
     int five = plan->view_count > 1;
+    /* Five views with the default fallback gather the far annulus from every view's share. */
+    int owned = five && s->fallback != LUCENT_FALLBACK_FRONT && plan->scatter_samples > 0;
     /* Projection and shadow views look from outside the bounding sphere: on a closed mesh their
      * back faces are always hidden. The camera may be inside. */
     int cull = gm->mesh->closed, cull_camera = cull && plan->camera_outside;
@@ -228,11 +268,14 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
     if (st == LUCENT_OK && five)
         st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_SIDES, s->light_count,
                                   plan->shadow_mask, cull, &sides, err);
-    struct scatter_variant variant = {1, plan->far_block, plan->scatter_samples, plan->view_count, s->sampling,
-                                      s->fallback, s->single_scattering};
+    struct scatter_variant variant = {SCATTER_FAR, plan->far_block, plan->scatter_samples, plan->view_count,
+                                      s->sampling, s->fallback, s->single_scattering};
     if (st == LUCENT_OK && plan->scatter_samples)
         st = pipelines_scatter(gpu->ctx, gpu->pipes, &variant, &far, err);
-    variant.far = 0;
+    variant.pass = SCATTER_FAR_FILTER;
+    if (st == LUCENT_OK && plan->scatter_samples)
+        st = pipelines_scatter(gpu->ctx, gpu->pipes, &variant, &filter, err);
+    variant.pass = SCATTER_COMPOSE;
     if (st == LUCENT_OK)
         st = pipelines_scatter(gpu->ctx, gpu->pipes, &variant, &compose, err);
     if (st != LUCENT_OK)
@@ -250,11 +293,21 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
         record_projection_pass(gpu, PROJECTION_SIDES, side_mesh, sides);
         copy_sides(gpu);
     }
-    record_mips(gpu, five);
+    const struct render_targets *t = gpu->targets;
+    VkImageLayout drawn = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    if (owned) {   /* level frame_owned_shift() of the projection images is the owned images' source */
+        int shift = frame_owned_shift((int)t->projection_size);
+        record_mips(gpu, &t->projection, drawn, (uint32_t)shift + 1, t->projection_size, t->side_size, five);
+        record_ownership(gpu);
+        record_mips(gpu, &t->owned, VK_IMAGE_LAYOUT_GENERAL, t->owned.levels, t->projection_size >> shift,
+                    t->side_size >> shift, five);
+    } else {
+        record_mips(gpu, &t->projection, drawn, t->projection.levels, t->projection_size, t->side_size, five);
+    }
     stamp(gpu, TS_PROJECTION);
     record_gbuffer(gpu, plan, &gm->full, cull_camera);
     stamp(gpu, TS_GBUFFER);
-    record_scatter(gpu, far, compose, (uint32_t)plan->far_block);
+    record_scatter(gpu, far, filter, compose, (uint32_t)plan->far_block);
     stamp(gpu, TS_SCATTER);
     VK_TRY(vkEndCommandBuffer(cmd), err);
 fail:

@@ -30,6 +30,7 @@ struct frame_uniforms {
     float rd_total[4];
     float near_rd[FRAME_NEAR_TABLE][4];
     float single_albedo[4];
+    float owned[4];   /* x: the owned images' side is the projection images' >> x (frame_owned_shift) */
     float samples[3 * LUCENT_MAX_SAMPLES][4];
 };
 

@@ -4,6 +4,7 @@
 
 #include "gbuffer_frag.h"
 #include "gbuffer_vert.h"
+#include "ownership_comp.h"
 #include "projection_frag.h"
 #include "projection_vert.h"
 #include "scatter_comp.h"
@@ -156,7 +157,7 @@ static lucent_status make_set_layout(struct vk_context *ctx, const VkDescriptorT
                                      VkShaderStageFlags stages, VkDescriptorSetLayout *out, lucent_error *err)
 {
     lucent_status st = LUCENT_OK;
-    VkDescriptorSetLayoutBinding b[8];
+    VkDescriptorSetLayoutBinding b[SCATTER_BINDINGS];
     for (uint32_t i = 0; i < count; i++)
         b[i] = (VkDescriptorSetLayoutBinding){i, types[i], 1, stages, NULL};
     VkDescriptorSetLayoutCreateInfo ci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
@@ -179,12 +180,13 @@ fail:
     return st;
 }
 
-static lucent_status make_scatter_pipeline(struct vk_context *ctx, struct pipelines *p,
+/* A compute pipeline over the scatter pass's descriptor set (scatter.comp, ownership.comp). */
+static lucent_status make_compute_pipeline(struct vk_context *ctx, struct pipelines *p, struct shader_code code,
                                            const VkSpecializationInfo *spec, VkPipeline *out, lucent_error *err)
 {
     lucent_status st = LUCENT_OK;
     VkShaderModule module = VK_NULL_HANDLE;
-    if ((st = make_module(ctx, SHADER(scatter_comp), &module, err)) != LUCENT_OK)
+    if ((st = make_module(ctx, code, &module, err)) != LUCENT_OK)
         return st;
     VkComputePipelineCreateInfo ci = {
         .sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
@@ -207,10 +209,12 @@ static lucent_status make_layouts(struct vk_context *ctx, struct pipelines *p, l
         VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+        VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
     VkShaderStageFlags raster = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     if ((st = make_set_layout(ctx, projection_types, 2, raster, &p->projection_set_layout, err)) ||
-        (st = make_set_layout(ctx, scatter_types, 8, VK_SHADER_STAGE_COMPUTE_BIT, &p->scatter_set_layout, err)) ||
+        (st = make_set_layout(ctx, scatter_types, SCATTER_BINDINGS, VK_SHADER_STAGE_COMPUTE_BIT,
+                                &p->scatter_set_layout, err)) ||
         (st = make_layout(ctx, VK_NULL_HANDLE, 64, VK_SHADER_STAGE_VERTEX_BIT, &p->shadow_layout, err)) ||
         (st = make_layout(ctx, p->projection_set_layout, sizeof(int32_t), raster, &p->projection_layout, err)) ||
         (st = make_layout(ctx, VK_NULL_HANDLE, sizeof(struct gbuffer_push), raster, &p->gbuffer_layout, err)) ||
@@ -255,13 +259,14 @@ lucent_status pipelines_create(struct vk_context *ctx, struct pipelines *p, luce
     memset(p, 0, sizeof *p);
     if ((st = check_projection_format(ctx, err)) ||
         (st = make_render_pass(ctx, 0, VK_FORMAT_UNDEFINED, 1, 0, 0, &p->shadow_pass, err)) ||
-        (st = make_render_pass(ctx, 1, PROJECTION_FORMAT, 0, 0, 0, &p->projection_pass[PROJECTION_FRONT], err)) ||
-        (st = make_render_pass(ctx, 1, PROJECTION_FORMAT, 0, (1u << SIDE_VIEWS) - 1, 1,
+        (st = make_render_pass(ctx, 2, PROJECTION_FORMAT, 0, 0, 0, &p->projection_pass[PROJECTION_FRONT], err)) ||
+        (st = make_render_pass(ctx, 2, PROJECTION_FORMAT, 0, (1u << SIDE_VIEWS) - 1, 1,
                                &p->projection_pass[PROJECTION_SIDES], err)) ||
         (st = make_render_pass(ctx, 2, GBUFFER_FORMAT, 0, 0, 0, &p->gbuffer_pass, err)) ||
         (st = make_layouts(ctx, p, err)) || (st = make_sampler(ctx, 0, VK_FILTER_NEAREST, &p->nearest, err)) ||
         (st = make_sampler(ctx, 0, VK_FILTER_LINEAR, &p->filtered, err)) ||
-        (st = make_sampler(ctx, 1, VK_FILTER_LINEAR, &p->shadow_compare, err)))
+        (st = make_sampler(ctx, 1, VK_FILTER_LINEAR, &p->shadow_compare, err)) ||
+        (st = make_compute_pipeline(ctx, p, SHADER(ownership_comp), NULL, &p->ownership, err)))
         goto fail;
 
     for (int cull = 0; cull < 2; cull++) {
@@ -292,7 +297,7 @@ lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, 
         VkSpecializationMapEntry entries[2] = {{0, 0, 4}, {1, 4, 4}};
         VkSpecializationInfo spec = {2, entries, sizeof values, values};
         struct raster_desc proj = {p->projection_pass[which], p->projection_layout, SHADER(projection_vert),
-                                   SHADER(projection_frag), &spec, 1, 1, cull};
+                                   SHADER(projection_frag), &spec, 2, 1, cull};
         lucent_status st = make_raster_pipeline(ctx, &proj, &p->projection[slot], err);
         if (st != LUCENT_OK)
             return st;
@@ -305,20 +310,21 @@ lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, con
                                 VkPipeline *out, lucent_error *err)
 {
     if (v->samples < 0 || v->samples > LUCENT_MAX_SAMPLES || (v->views != 1 && v->views != 5) ||
-        (v->far && v->samples == 0) || (v->block != 1 && v->block != 2 && v->block != 4))
+        v->pass < SCATTER_COMPOSE || v->pass > SCATTER_FAR_FILTER || (v->pass != SCATTER_COMPOSE && v->samples == 0) ||
+        (v->block != 1 && v->block != 2 && v->block != 4))
         return lucent_fail(err, LUCENT_E_INTERNAL, "", "no scatter pipeline for %d samples, %d views%s", v->samples,
-                           v->views, v->far ? ", far pass" : "");
+                           v->views, v->pass == SCATTER_COMPOSE ? "" : ", far pass");
     int shared = v->sampling == LUCENT_SAMPLING_SHARED, front = v->fallback == LUCENT_FALLBACK_FRONT;
-    int single = v->single_scattering != 0, far = v->far != 0;
-    size_t pass = (size_t)far * 3 + (size_t)(v->block == 4 ? 2 : v->block - 1);
+    int single = v->single_scattering != 0;
+    size_t pass = (size_t)v->pass * 3 + (size_t)(v->block == 4 ? 2 : v->block - 1);
     size_t slot = ((((pass * (LUCENT_MAX_SAMPLES + 1) + (size_t)v->samples) * 2 + (v->views == 5)) * 2 +
                     (size_t)shared) * 2 + (size_t)front) * 2 + (size_t)single;
     if (!p->scatter[slot]) {
-        int32_t values[7] = {v->samples, v->views, shared, front, single, far, v->block};
+        int32_t values[7] = {v->samples, v->views, shared, front, single, v->pass, v->block};
         VkSpecializationMapEntry entries[7] = {{0, 0, 4},  {1, 4, 4},  {2, 8, 4}, {3, 12, 4},
                                                {4, 16, 4}, {5, 20, 4}, {6, 24, 4}};
         VkSpecializationInfo spec = {7, entries, sizeof values, values};
-        lucent_status st = make_scatter_pipeline(ctx, p, &spec, &p->scatter[slot], err);
+        lucent_status st = make_compute_pipeline(ctx, p, SHADER(scatter_comp), &spec, &p->scatter[slot], err);
         if (st != LUCENT_OK)
             return st;
     }
@@ -337,6 +343,7 @@ void pipelines_destroy(struct vk_context *ctx, struct pipelines *p)
         vkDestroyPipeline(d, p->projection[i], NULL);
     for (size_t i = 0; i < SCATTER_VARIANTS; i++)
         vkDestroyPipeline(d, p->scatter[i], NULL);
+    vkDestroyPipeline(d, p->ownership, NULL);
     VkPipelineLayout layouts[] = {p->shadow_layout, p->projection_layout, p->gbuffer_layout, p->scatter_layout};
     for (size_t i = 0; i < sizeof layouts / sizeof layouts[0]; i++)
         vkDestroyPipelineLayout(d, layouts[i], NULL);

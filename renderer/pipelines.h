@@ -11,7 +11,8 @@
 
 /* The projection images are drawn in two passes: the front view at projection_size, and the four
  * side views in one multiview pass at their own (smaller) size, copied afterwards into the corners
- * of layers 1-4 of the front image's array. Index into projection_pass and the variant key. */
+ * of layers 1-4 of the front image's array. Each pass writes flux and depth, and the normal. Index
+ * into projection_pass and the variant key. */
 enum { PROJECTION_FRONT = 0, PROJECTION_SIDES = 1 };
 #define SIDE_VIEWS 4
 
@@ -19,17 +20,23 @@ enum { PROJECTION_FRONT = 0, PROJECTION_SIDES = 1 };
  * shadowed: CPU drivers pay for every branch, taken or not. Built on first use, kept with the
  * pipelines. */
 #define PROJECTION_VARIANTS (2 * 2 * LUCENT_MAX_LIGHTS * (1 << LUCENT_MAX_LIGHTS))
-/* Scatter pipelines likewise, by pass (the far annulus per block, or the compose pass), block size, sample
- * count (0: diffuse limit), view count, sampling scheme, hidden-point fallback and single scattering. */
+/* Scatter pipelines likewise, by pass, block size, sample count (0: diffuse limit), view count,
+ * sampling scheme, hidden-point fallback and single scattering. The passes, in order: the far annulus
+ * per block, its filter over neighbouring blocks, and the compose pass per pixel (scatter.comp). */
+enum { SCATTER_COMPOSE = 0, SCATTER_FAR = 1, SCATTER_FAR_FILTER = 2 };
 struct scatter_variant {
-    int far;
+    int pass;           /* SCATTER_* */
     int block;          /* pixels a side of one far sample: 1, 2 or 4 */
     int samples, views;
     lucent_sampling sampling;
     lucent_fallback fallback;
     int single_scattering;
 };
-#define SCATTER_VARIANTS (2 * 3 * (LUCENT_MAX_SAMPLES + 1) * 2 * 2 * 2 * 2)
+/* The scatter set: frame uniforms, projection images, G-buffer position and normal, the output
+ * color, normal and depth buffers, the far samples, the owned images (sampled), the projection
+ * normals, the owned images' level 0 (storage) and the filtered far samples. */
+#define SCATTER_BINDINGS 12
+#define SCATTER_VARIANTS (3 * 3 * (LUCENT_MAX_SAMPLES + 1) * 2 * 2 * 2 * 2)
 
 struct pipelines {
     VkRenderPass shadow_pass;
@@ -41,6 +48,7 @@ struct pipelines {
     VkPipeline shadow[2], gbuffer[2];   /* index: cull back faces (closed meshes) */
     VkPipeline projection[PROJECTION_VARIANTS];
     VkPipeline scatter[SCATTER_VARIANTS];
+    VkPipeline ownership;       /* each view's share of the surface, over the scatter set */
     VkSampler nearest;
     VkSampler filtered;         /* bilinear within a mip level, for the prefiltered projection images */
     VkSampler shadow_compare;   /* depth comparison with 2x2 filtering (PCF) */

@@ -45,23 +45,31 @@ static lucent_status make_projection(struct vk_context *ctx, const struct pipeli
 {
     uint32_t s = t->projection_size, side = t->side_size;
     VkImageUsageFlags depth = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+    VkImageUsageFlags drawn = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                              VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    VkImageUsageFlags owned = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                              VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    VkImageUsageFlags copied = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    int shift = frame_owned_shift((int)s);
     lucent_status st;
-    if ((st = vk_image_create_mipped(ctx, s, s, FRAME_MAX_VIEWS, mip_levels(s), PROJECTION_FORMAT,
-                                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
-                                         VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+    if ((st = vk_image_create_mipped(ctx, s, s, FRAME_MAX_VIEWS, mip_levels(s), PROJECTION_FORMAT, drawn,
                                      &t->projection, err)) ||
         (st = vk_image_layer_view(ctx, &t->projection, 0, &t->front_layer, err)) ||
+        (st = vk_image_create(ctx, s, s, FRAME_MAX_VIEWS, PROJECTION_FORMAT, drawn, &t->normals, err)) ||
+        (st = vk_image_layer_view(ctx, &t->normals, 0, &t->front_normals, err)) ||
+        (st = vk_image_create_mipped(ctx, s >> shift, s >> shift, FRAME_MAX_VIEWS, mip_levels(s >> shift),
+                                     PROJECTION_FORMAT, owned, &t->owned, err)) ||
+        (st = vk_image_base_view(ctx, &t->owned, &t->owned_base, err)) ||
         (st = vk_image_create(ctx, s, s, 1, DEPTH_FORMAT, depth, &t->front_depth, err)) ||
-        (st = vk_image_create(ctx, side, side, SIDE_VIEWS, PROJECTION_FORMAT,
-                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, &t->sides,
-                              err)) ||
+        (st = vk_image_create(ctx, side, side, SIDE_VIEWS, PROJECTION_FORMAT, copied, &t->sides, err)) ||
+        (st = vk_image_create(ctx, side, side, SIDE_VIEWS, PROJECTION_FORMAT, copied, &t->side_normals, err)) ||
         (st = vk_image_create(ctx, side, side, SIDE_VIEWS, DEPTH_FORMAT, depth, &t->sides_depth, err)))
         return st;
-    VkImageView front[2] = {t->front_layer, t->front_depth.view};
-    VkImageView sides[2] = {t->sides.view, t->sides_depth.view};
-    if ((st = make_framebuffer(ctx, p->projection_pass[PROJECTION_FRONT], front, 2, s, s, &t->front_fb, err)))
+    VkImageView front[3] = {t->front_layer, t->front_normals, t->front_depth.view};
+    VkImageView sides[3] = {t->sides.view, t->side_normals.view, t->sides_depth.view};
+    if ((st = make_framebuffer(ctx, p->projection_pass[PROJECTION_FRONT], front, 3, s, s, &t->front_fb, err)))
         return st;
-    return make_framebuffer(ctx, p->projection_pass[PROJECTION_SIDES], sides, 2, side, side, &t->sides_fb, err);
+    return make_framebuffer(ctx, p->projection_pass[PROJECTION_SIDES], sides, 3, side, side, &t->sides_fb, err);
 }
 
 static lucent_status make_gbuffer(struct vk_context *ctx, const struct pipelines *p, struct render_targets *t,
@@ -96,7 +104,10 @@ static lucent_status make_output(struct vk_context *ctx, struct render_targets *
         return st;
     uint32_t b = (uint32_t)frame_far_block((int)t->width, (int)t->height);
     VkDeviceSize blocks = (VkDeviceSize)frame_far_blocks(t->width, b) * frame_far_blocks(t->height, b);
-    return vk_buffer_create(ctx, blocks * RENDER_TARGETS_FAR_BYTES, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, &t->far, err);
+    t->far_bytes = blocks * RENDER_TARGETS_FAR_BYTES;
+    t->far_filtered_offset = align_up(t->far_bytes, a);
+    return vk_buffer_create(ctx, t->far_filtered_offset + t->far_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, &t->far,
+                            err);
 }
 
 static lucent_status make_descriptor_sets(struct vk_context *ctx, const struct pipelines *p,
@@ -105,10 +116,11 @@ static lucent_status make_descriptor_sets(struct vk_context *ctx, const struct p
 {
     lucent_status st = LUCENT_OK;
     VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
-                                    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4},
-                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4}};
+                                    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 6},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 5},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1}};
     VkDescriptorPoolCreateInfo pci = {.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO, .maxSets = 2,
-                                      .poolSizeCount = 3, .pPoolSizes = sizes};
+                                      .poolSizeCount = 4, .pPoolSizes = sizes};
     VK_TRY(vkCreateDescriptorPool(ctx->device, &pci, NULL, &t->pool), err);
     VkDescriptorSetLayout layouts[2] = {p->projection_set_layout, p->scatter_set_layout};
     VkDescriptorSet sets[2];
@@ -121,14 +133,18 @@ static lucent_status make_descriptor_sets(struct vk_context *ctx, const struct p
     VkDescriptorBufferInfo ubo = {uniforms->buffer, 0, VK_WHOLE_SIZE};
     VkImageLayout ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     VkDescriptorImageInfo shadow = {p->shadow_compare, t->shadow_depth.view, ro};
-    VkDescriptorImageInfo images[3] = {{p->filtered, t->projection.view, ro},
+    VkDescriptorImageInfo images[6] = {{p->filtered, t->projection.view, ro},
                                        {p->nearest, t->gbuffer_position.view, ro},
-                                       {p->nearest, t->gbuffer_normal.view, ro}};
+                                       {p->nearest, t->gbuffer_normal.view, ro},
+                                       {p->filtered, t->owned.view, ro},
+                                       {p->nearest, t->normals.view, ro},
+                                       {VK_NULL_HANDLE, t->owned_base, VK_IMAGE_LAYOUT_GENERAL}};
     VkDeviceSize pixels = (VkDeviceSize)t->width * t->height;
     VkDescriptorBufferInfo outs[3] = {{t->output.buffer, t->color_offset, pixels * 16},
                                       {t->output.buffer, t->normal_offset, pixels * 16},
                                       {t->output.buffer, t->depth_offset, pixels * 4}};
-    VkDescriptorBufferInfo far = {t->far.buffer, 0, VK_WHOLE_SIZE};
+    VkDescriptorBufferInfo far[2] = {{t->far.buffer, 0, t->far_bytes},
+                                     {t->far.buffer, t->far_filtered_offset, t->far_bytes}};
 #define WRITE(set, binding, type, img, buf) \
     {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, NULL, set, binding, 0, 1, type, img, buf, NULL}
     VkWriteDescriptorSet w[] = {
@@ -141,7 +157,11 @@ static lucent_status make_descriptor_sets(struct vk_context *ctx, const struct p
         WRITE(t->scatter_set, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, &outs[0]),
         WRITE(t->scatter_set, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, &outs[1]),
         WRITE(t->scatter_set, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, &outs[2]),
-        WRITE(t->scatter_set, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, &far)};
+        WRITE(t->scatter_set, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, &far[0]),
+        WRITE(t->scatter_set, 8, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &images[3], NULL),
+        WRITE(t->scatter_set, 9, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &images[4], NULL),
+        WRITE(t->scatter_set, 10, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, &images[5], NULL),
+        WRITE(t->scatter_set, 11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, &far[1])};
 #undef WRITE
     vkUpdateDescriptorSets(ctx->device, sizeof w / sizeof w[0], w, 0, NULL);
 fail:
@@ -161,35 +181,39 @@ static VkImageMemoryBarrier to_shader_read(VkImage image, VkImageAspectFlags asp
 }
 
 /* Shadow layers, side images and mip levels that no frame has drawn yet are still bound for
- * sampling: give them a valid layout. The projection images are cleared once (no flux, depth -1):
- * frames write only the side views' corners of layers 1-4, and a bilinear read at a corner's edge
- * touches the texels beside it, so those must hold no flux rather than undefined (possibly NaN)
- * values; frames keep their layout transitions content-preserving for that reason. */
+ * sampling: give them a valid layout. The projection, normal and owned images are cleared once (no
+ * flux, depth -1): frames write only the side views' corners of layers 1-4, and a bilinear read at a
+ * corner's edge touches the texels beside it, so those must hold no flux rather than undefined
+ * (possibly NaN) values; frames keep their layout transitions content-preserving for that reason. */
 static lucent_status prepare_layouts(struct vk_context *ctx, struct render_targets *t, lucent_error *err)
 {
     lucent_status st = LUCENT_OK;
     VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                    .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     VK_TRY(vkBeginCommandBuffer(ctx->cmd, &bi), err);
-    VkImageSubresourceRange all = {VK_IMAGE_ASPECT_COLOR_BIT, 0, t->projection.levels, 0, FRAME_MAX_VIEWS};
-    VkImageMemoryBarrier to_clear = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
-                                     .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-                                     .newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                                     .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                                     .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED, .image = t->projection.image,
-                                     .subresourceRange = all, .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
-    vkCmdPipelineBarrier(ctx->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0,
-                         NULL, 1, &to_clear);
-    VkClearColorValue empty = {.float32 = {0.0f, 0.0f, 0.0f, -1.0f}};
-    vkCmdClearColorImage(ctx->cmd, t->projection.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &empty, 1, &all);
-    VkImageMemoryBarrier b[2] = {
-        to_shader_read(t->shadow_depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, 1, 0, LUCENT_MAX_LIGHTS),
-        to_shader_read(t->projection.image, VK_IMAGE_ASPECT_COLOR_BIT, t->projection.levels, 0, FRAME_MAX_VIEWS)};
-    b[1].oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-    b[1].srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    const struct vk_image *cleared[3] = {&t->projection, &t->normals, &t->owned};
+    VkImageMemoryBarrier b[4];
+    for (int i = 0; i < 3; i++) {
+        VkImageSubresourceRange all = {VK_IMAGE_ASPECT_COLOR_BIT, 0, cleared[i]->levels, 0, FRAME_MAX_VIEWS};
+        VkImageMemoryBarrier to_clear = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                                         .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+                                         .newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                                         .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                                         .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                                         .image = cleared[i]->image, .subresourceRange = all,
+                                         .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
+        vkCmdPipelineBarrier(ctx->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL,
+                             0, NULL, 1, &to_clear);
+        VkClearColorValue empty = {.float32 = {0.0f, 0.0f, 0.0f, -1.0f}};
+        vkCmdClearColorImage(ctx->cmd, cleared[i]->image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &empty, 1, &all);
+        b[i] = to_shader_read(cleared[i]->image, VK_IMAGE_ASPECT_COLOR_BIT, cleared[i]->levels, 0, FRAME_MAX_VIEWS);
+        b[i].oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+        b[i].srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    }
+    b[3] = to_shader_read(t->shadow_depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, 1, 0, LUCENT_MAX_LIGHTS);
     vkCmdPipelineBarrier(ctx->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                          VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL,
-                         0, NULL, 2, b);
+                         0, NULL, 4, b);
     VK_TRY(vkEndCommandBuffer(ctx->cmd), err);
     st = vk_submit_and_wait(ctx, err);
 fail:
@@ -228,9 +252,14 @@ void render_targets_destroy(struct vk_context *ctx, struct render_targets *t)
     vk_image_destroy(ctx, &t->gbuffer_position);
     vkDestroyFramebuffer(d, t->sides_fb, NULL);
     vk_image_destroy(ctx, &t->sides_depth);
+    vk_image_destroy(ctx, &t->side_normals);
     vk_image_destroy(ctx, &t->sides);
     vkDestroyFramebuffer(d, t->front_fb, NULL);
     vk_image_destroy(ctx, &t->front_depth);
+    vkDestroyImageView(d, t->owned_base, NULL);
+    vk_image_destroy(ctx, &t->owned);
+    vkDestroyImageView(d, t->front_normals, NULL);
+    vk_image_destroy(ctx, &t->normals);
     vkDestroyImageView(d, t->front_layer, NULL);
     vk_image_destroy(ctx, &t->projection);
     for (int l = 0; l < LUCENT_MAX_LIGHTS; l++) {

@@ -17,15 +17,21 @@ struct render_targets {
     VkFramebuffer shadow_fb[LUCENT_MAX_LIGHTS];
     struct vk_image projection;                   /* projection_size^2 x 5 layers, sampled */
     VkImageView front_layer;
+    struct vk_image normals;                      /* the projection images' surface normals, same layout */
+    VkImageView front_normals;
+    struct vk_image owned;                        /* each view's share of the flux (ownership.comp), side
+                                                   * projection_size >> frame_owned_shift(), mipped */
+    VkImageView owned_base;                       /* its level 0, written as a storage image */
     struct vk_image front_depth;
     VkFramebuffer front_fb;
-    struct vk_image sides, sides_depth;           /* side_size^2 x 4 layers, copied into projection */
+    struct vk_image sides, side_normals, sides_depth;  /* side_size^2 x 4 layers, copied into the arrays */
     VkFramebuffer sides_fb;
     struct vk_image gbuffer_position, gbuffer_normal, gbuffer_depth;
     VkFramebuffer gbuffer_fb;
     struct vk_buffer output;                      /* color, normal+view, depth arrays */
     VkDeviceSize color_offset, normal_offset, depth_offset;
-    struct vk_buffer far;                         /* the far annulus per frame_far_block() block */
+    struct vk_buffer far;                         /* the far annulus per frame_far_block() block, then filtered */
+    VkDeviceSize far_bytes, far_filtered_offset;
     VkDescriptorPool pool;
     VkDescriptorSet projection_set, scatter_set;
 };

@@ -124,3 +124,9 @@ lucent_status vk_image_layer_view(struct vk_context *ctx, const struct vk_image 
 {
     return create_view(ctx, img, layer, 1, 1, out, err);
 }
+
+lucent_status vk_image_base_view(struct vk_context *ctx, const struct vk_image *img, VkImageView *out,
+                                 lucent_error *err)
+{
+    return create_view(ctx, img, 0, img->layers, 1, out, err);
+}

@@ -35,6 +35,10 @@ lucent_status vk_image_create_mipped(struct vk_context *ctx, uint32_t width, uin
                                      struct vk_image *out, lucent_error *err);
 void vk_image_destroy(struct vk_context *ctx, struct vk_image *img);
 
+/* A view of every layer's first mip level, for storage writes into a mipped array. */
+lucent_status vk_image_base_view(struct vk_context *ctx, const struct vk_image *img, VkImageView *out,
+                                 lucent_error *err);
+
 /* A view of one layer's first mip level, for framebuffers that draw one array layer at a time. */
 lucent_status vk_image_layer_view(struct vk_context *ctx, const struct vk_image *img, uint32_t layer,
                                   VkImageView *out, lucent_error *err);

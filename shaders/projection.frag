@@ -1,5 +1,6 @@
 // projection.frag - light entering the surface (irradiance x Fresnel transmittance, shadowed) per texel,
-// stored per unit of projection-image area so the scatter pass can sum texels as area elements.
+// stored per unit of projection-image area so the scatter pass can sum texels as area elements; and
+// the surface normal, from which the ownership pass shares each point among the views that see it.
 #version 450
 #extension GL_EXT_multiview : require
 #extension GL_GOOGLE_include_directive : require
@@ -10,6 +11,7 @@ layout(push_constant) uniform Push { int view_base; } push;
 layout(location = 0) in vec3 v_position;
 layout(location = 1) in vec3 v_normal;
 layout(location = 0) out vec4 out_flux_depth;
+layout(location = 1) out vec4 out_normal;
 
 // Specialized per frame shape (pipelines.c): CPU drivers run both sides of every branch, so lights
 // that do not exist and shadow lookups that cannot matter must not exist in the code either.
@@ -59,4 +61,5 @@ void main()
     float area = 1.0 / max(dot(n, -dir), MIN_AREA_COS);
     float depth = dot(v_position - frame.view_origin[view].xyz, dir);
     out_flux_depth = vec4(entering * area, depth);
+    out_normal = vec4(n, 0.0);
 }

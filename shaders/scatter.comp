@@ -1,8 +1,9 @@
-// scatter.comp - the final passes: pick the projection images that see a point best and integrate the
-// dipole profile over their prefiltered flux. The far annulus of the profile is integrated once per
-// block of pixels (PASS_FAR), blending two views where they face the point almost equally; the compose
-// pass adds the near disc per pixel, upsamples the far part guided by position and normal, and applies
-// the exit Fresnel term.
+// scatter.comp - the final passes: integrate the dipole profile over the prefiltered flux of the
+// projection images. The far annulus of the profile is integrated once per block of pixels (PASS_FAR),
+// gathered from every view's share of the surface (or, with one view or the paper's fallback, from the
+// view a point chooses); PASS_FAR_FILTER averages it over neighbouring blocks on the same surface; the
+// compose pass adds the near disc per pixel, upsamples the far part guided by position and normal,
+// and applies the exit Fresnel term.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -19,6 +20,8 @@ layout(std430, set = 0, binding = 6) writeonly buffer OutDepth { float out_depth
 // up to LUCENT_MAX_IMAGE_SIDE 4096; -1: no pixel covered).
 struct FarSample { vec4 diffuse; vec4 position; };
 layout(std430, set = 0, binding = 7) buffer Far { FarSample far_samples[]; };
+layout(std430, set = 0, binding = 11) buffer FarFiltered { FarSample far_filtered[]; };
+layout(set = 0, binding = 8) uniform sampler2DArray owned_images;
 layout(push_constant) uniform Push { ivec2 size; } push;
 
 // Specialized per request (pipelines.c): constant loop bounds unroll, and CPU drivers pay for
@@ -28,48 +31,19 @@ layout(constant_id = 1) const int VIEW_COUNT = 5;
 layout(constant_id = 2) const bool SHARED_SAMPLES = true;
 layout(constant_id = 3) const bool FRONT_FALLBACK = false; // the paper's: hidden in the best view -> front
 layout(constant_id = 4) const bool SINGLE_SCATTERING = false;
-layout(constant_id = 5) const bool PASS_FAR = false;      // the far pass, per block of pixels; else compose
+layout(constant_id = 5) const int PASS = 0;               // SCATTER_* of pipelines.h
+const bool PASS_FAR = PASS == 1, PASS_FAR_FILTER = PASS == 2;
 layout(constant_id = 6) const int FAR_BLOCK = 4;          // pixels per side of a block (frame_plan.c)
+// With five views and the default fallback the far annulus is gathered from every view, over each
+// view's share of the surface (ownership.comp), so light crosses edges and view boundaries; else from
+// the one or two views the pixel chooses, over the whole projection images.
+const bool OWNED = VIEW_COUNT == 5 && !FRONT_FALLBACK;
 // Views whose facing cosines differ by less than this are blended.
 const float VIEW_BLEND = 0.2;
 // A sample reads the mip level whose texels are half the side of the area it stands for: measured
 // on the side-lit bunny, sphere and protrusion, 0 blurs the terminator and -1 brings back noise.
 const float LOD_BIAS = -0.5;
-
-vec2 texel_coord(int k, vec3 p)
-{
-    vec3 rel = p - frame.view_origin[k].xyz;
-    vec3 du = frame.view_du[k].xyz, dv = frame.view_dv[k].xyz;
-    return vec2(dot(rel, du) / dot(du, du), dot(rel, dv) / dot(dv, dv));
-}
-
-bool inside(int k, ivec2 t)
-{
-    int side = int(frame.view_du[k].w);
-    return t.x >= 0 && t.y >= 0 && t.x < side && t.y < side;
-}
-
-// The point is visible in view k when the depth stored at its texel is its own depth; the tolerance
-// grows with the slope of the surface in that view.
-bool visible_in(int k, vec3 p, vec3 n)
-{
-    ivec2 t = ivec2(floor(texel_coord(k, p)));
-    if (!inside(k, t))
-        return false;
-    float stored = texelFetch(projection_images, ivec3(t, k), 0).a;
-    if (stored < 0.0)
-        return false;
-    float depth = dot(p - frame.view_origin[k].xyz, frame.view_dir[k].xyz);
-    float facing = max(dot(n, -frame.view_dir[k].xyz), 0.1);
-    float tolerance = frame.view_dv[k].w * (1.5 + 1.0 / facing) + frame.params.z;
-    return abs(stored - depth) <= tolerance;
-}
-
-// How squarely view k faces a surface of normal n (the cosine; <= 0: the view sees its back).
-float view_score(int k, vec3 n)
-{
-    return dot(n, -frame.view_dir[k].xyz);
-}
+#include "views.glsl"
 
 // Best-facing view in which the point is visible; views facing away are never used.
 // Falls back to the front view (0), as the paper does, when no facing view sees the point, or at
@@ -128,30 +102,56 @@ vec3 dipole_rd3(float r)
     return vec3(dipole_rd(0, r), dipole_rd(1, r), dipole_rd(2, r));
 }
 
-// Mean flux density over about `area_texels` texels around `at` in view k, from the projection
-// image's mip chain (bilinear within the nearest level). A far sample stands for its whole ring
-// segment, so it returns that segment's mean instead of one texel (the prefiltering of translucent
-// shadow maps). Reads stay inside the view's corner of its layer, the only part of the side layers'
-// levels that is written.
+// R_d integrated over a disc of radius `radius` (mm) on a plane `dz` (mm) off the point, parallel to
+// the disc: with s = sqrt(r^2 + dz^2) the integral of R_d(s) 2 pi r dr is the plane's radial
+// integral between |dz| and sqrt(radius^2 + dz^2), which has a closed form (dipole.c,
+// dipole_rd_disc: alpha' / 2 sum over both sources of z e^(-sigma_tr d) / d).
+vec3 rd_disc_offset(float radius, float dz)
+{
+    vec3 sum = vec3(0.0);
+    float inner2 = dz * dz, outer2 = radius * radius + dz * dz;
+    for (int c = 0; c < 3; c++) {
+        float s = frame.sigma_tr[c], zr = frame.z_r[c], zv = frame.z_v[c];
+        float ri = sqrt(inner2 + zr * zr), vi = sqrt(inner2 + zv * zv);
+        float ro = sqrt(outer2 + zr * zr), vo = sqrt(outer2 + zv * zv);
+        sum[c] = 0.5 * frame.alpha_prime[c] * (zr * (exp(-s * ri) / ri - exp(-s * ro) / ro) +
+                                               zv * (exp(-s * vi) / vi - exp(-s * vo) / vo));
+    }
+    return sum;
+}
+
+// Mean flux density over about `area_texels` texels of view k's projection image around `at`, from
+// the mip chain of the gathered images (bilinear within the nearest level). A far sample stands for
+// its whole ring segment, so it returns that segment's mean instead of one texel (the prefiltering of
+// translucent shadow maps). The owned images have a lower resolution (frame.owned). Reads stay
+// inside the view's corner of its layer, the only part of the side layers' levels that is written.
 vec3 prefiltered_flux(int k, vec2 at, float area_texels)
 {
-    int side = int(frame.view_du[k].w);
-    float lod = clamp(0.5 * log2(max(area_texels, 1.0)) + LOD_BIAS, 0.0, float(findMSB(side)));
+    int shift = OWNED ? int(frame.owned.x) : 0;
+    float scale = exp2(-float(shift));
+    int side = int(frame.view_du[k].w) >> shift;
+    float lod = clamp(0.5 * log2(max(area_texels * scale * scale, 1.0)) + LOD_BIAS, 0.0, float(findMSB(side)));
     int finer = int(lod);   // the sampler rounds lod to the nearest level, this one or the next
-    float level_side = float(side >> finer), layer_side = float(int(frame.view_du[0].w) >> finer);
-    vec2 uv = clamp(at * exp2(-float(finer)), vec2(1.0), vec2(max(level_side - 1.0, 1.0))) / layer_side;
-    return textureLod(projection_images, vec3(uv, float(k)), lod).rgb;
+    float level_side = float(side >> finer), layer_side = float((int(frame.view_du[0].w) >> shift) >> finer);
+    vec3 uvw = vec3(clamp(at * scale * exp2(-float(finer)), vec2(1.0), vec2(max(level_side - 1.0, 1.0))) / layer_side,
+                    float(k));
+    if (OWNED)
+        return textureLod(owned_images, uvw, lod).rgb;
+    return textureLod(projection_images, uvw, lod).rgb;
 }
 
 // Sums flux x R_d x weight over the far annulus's sample pattern around p in projection image k; each
-// sample's weight is the surface area (mm^2) it stands for. The distance to each sample is its exact lateral
-// offset plus a depth difference. Within a texel of p the image cannot resolve the surface better
-// than p's tangent plane, so the depth comes from that plane; farther out it is the depth of the
-// texel the sample lands in, moved from the texel centre to the sample along the tangent plane and
-// compared with the image's own surface at p (the plane where that texel is empty but the
-// prefiltered flux is not). Texel quantization, facets and a proxy mesh's offset from the true
-// surface then add no false depth, and kernels narrower than a texel integrate to the right energy.
-vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px)
+// sample's weight is the surface area (mm^2) it stands for. The distance to each sample is its exact
+// lateral offset plus a depth difference. Where view k sees p (`seen`): within a texel of p the image
+// cannot resolve the surface better than p's tangent plane, so the depth comes from that plane;
+// farther out it is the depth of the texel the sample lands in, moved from the texel centre to the
+// sample along the tangent plane and compared with the image's own surface at p (the plane where that
+// texel is empty but the prefiltered flux is not). Texel quantization, facets and a proxy mesh's
+// offset from the true surface then add no false depth, and kernels narrower than a texel integrate
+// to the right energy. Where view k does not see p (a face gathered across an edge), a sample's depth
+// is its texel's, and empty texels add nothing. Samples within a texel of p read the projection
+// image's own texel, times `share`, the view's share of p's surface (ownership.comp's weight at p).
+vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px, bool seen, float share)
 {
     vec2 center = texel_coord(k, p);
     float mm_per_texel = frame.params.y * frame.view_dv[k].w;
@@ -161,13 +161,17 @@ vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px)
     float depth = dot(p - frame.view_origin[k].xyz, dir);
     // Depth change per texel along x and y on the tangent plane; grazing slopes are capped.
     float facing = min(dot(dir, n), -0.1);
-    vec2 slope = -vec2(dot(frame.view_du[k].xyz, n), dot(frame.view_dv[k].xyz, n)) / facing;
+    vec2 slope = seen ? -vec2(dot(frame.view_du[k].xyz, n), dot(frame.view_dv[k].xyz, n)) / facing : vec2(0.0);
     ivec2 home = ivec2(floor(center));
     float home_depth = inside(k, home) ? texelFetch(projection_images, ivec3(home, k), 0).a : -1.0;
-    if (home_depth >= 0.0)
+    if (seen && home_depth >= 0.0)
         depth = home_depth + dot(center - (vec2(home) + 0.5), slope);
     float texels_per_mm2 = 1.0 / (mm_per_texel * mm_per_texel);
     vec3 sum = vec3(0.0);
+    // The near disc is p's own light (the compose pass) only in the views that see p; across an edge
+    // it holds another face, taken as a plane lit like the texel p lands on, at that texel's depth.
+    if (!seen && home_depth >= 0.0)
+        sum += prefiltered_flux(k, center, 1.0) * rd_disc_offset(frame.rd_total.w, (home_depth - depth) * frame.params.y);
     for (int c = 0; c < (SHARED_SAMPLES ? 1 : 3); c++) {
         for (int j = 0; j < SAMPLES; j++) {
             vec4 s = frame.samples[c * MAX_SAMPLES + j];
@@ -176,9 +180,15 @@ vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px)
             if (!inside(k, t))
                 continue;
             vec4 texel = texelFetch(projection_images, ivec3(t, k), 0);
-            vec3 flux = s.x < mm_per_texel ? texel.rgb : prefiltered_flux(k, at, s.y * texels_per_mm2);
-            float step = s.x < mm_per_texel || texel.a < 0.0 ? dot(at - center, slope)
-                                                              : texel.a + dot(at - (vec2(t) + 0.5), slope) - depth;
+            if (!seen && texel.a < 0.0)
+                continue;
+            // A footprint no wider than the sample's distance from p: the inner samples' areas are
+            // as wide as their rings, and a footprint that size reached back to p's own light
+            // (side-lit sphere 2.5% bright, 1.2% with this bound).
+            vec3 flux = s.x < mm_per_texel ? texel.rgb * share
+                                           : prefiltered_flux(k, at, min(s.y, s.x * s.x) * texels_per_mm2);
+            float step = seen && (s.x < mm_per_texel || texel.a < 0.0) ? dot(at - center, slope)
+                                                                        : texel.a + dot(at - (vec2(t) + 0.5), slope) - depth;
             float dz = step * frame.params.y;
             float r = sqrt(s.x * s.x + dz * dz);
             if (SHARED_SAMPLES)
@@ -271,11 +281,28 @@ float second_view(vec3 p, vec3 n, int k, out int k2)
     return k2 < 0 ? 0.0 : 0.5 * clamp(1.0 - (view_score(k, n) - view_score(k2, n)) / VIEW_BLEND, 0.0, 1.0);
 }
 
-vec3 far_light(vec3 p, vec3 n, int k, int k2, float w2, ivec2 px)
+// The far annulus at p: gathered from every view's share of the surface (OWNED), else from the view
+// the pixel chose, blended with the second where both face p almost equally.
+vec3 far_light(vec3 p, vec3 n, ivec2 px)
 {
-    vec3 far = scattered_light(k, p, n, px);
+    if (OWNED) {
+        vec3 far = vec3(0.0);
+        bool seen[MAX_VIEWS];
+        float weight[MAX_VIEWS], total = 0.0;
+        for (int k = 0; k < VIEW_COUNT; k++) {
+            seen[k] = view_score(k, n) > 0.0 && visible_in(k, p, n);
+            weight[k] = seen[k] ? facing_weight(view_score(k, n)) : 0.0;
+            total += weight[k];
+        }
+        for (int k = 0; k < VIEW_COUNT; k++)
+            far += scattered_light(k, p, n, px, seen[k], weight[k] / max(total, 1e-30));
+        return far;
+    }
+    int k = choose_view(p, n, -1), k2;
+    float w2 = second_view(p, n, k, k2);
+    vec3 far = scattered_light(k, p, n, px, true, 1.0);
     if (w2 > 0.0)
-        far = mix(far, scattered_light(k2, p, n, px), w2);
+        far = mix(far, scattered_light(k2, p, n, px, true, 1.0), w2);
     return far;
 }
 
@@ -328,35 +355,79 @@ void far_main()
     }
     vec3 p = texelFetch(gbuffer_position, px, 0).xyz;
     vec3 n = normalize(texelFetch(gbuffer_normal, px, 0).xyz);
-    int k = choose_view(p, n, -1), k2;
-    float w2 = second_view(p, n, k, k2);
-    far_samples[idx] = FarSample(vec4(far_light(p, n, k, k2, w2, bp), uintBitsToFloat(packSnorm2x16(octahedral(n)))),
+    far_samples[idx] = FarSample(vec4(far_light(p, n, bp), uintBitsToFloat(packSnorm2x16(octahedral(n)))),
                                  vec4(p, float(px.x + 4096 * px.y)));
 }
 
-// The far part at a pixel: the four block samples around it, weighted by a tent of one block's
-// radius over the pixels they were integrated at and by how well they lie on p's tangent plane
-// (within the near disc's radius) and share p's normal, so light does not leak across depth steps
-// and creases. The far part changes slowly by construction (no light nearer than the near disc).
-// Where few samples share p's surface (edges, creases, thin parts), it leans on `local`, the far
-// part of a plane lit as p is.
+vec3 sample_normal(FarSample f)
+{
+    return from_octahedral(unpackSnorm2x16(floatBitsToUint(f.diffuse.w)));
+}
+
+// How far a far sample stands for the surface at p (normal n): it must lie on p's tangent plane and
+// share p's normal, so light does not leak across depth steps and creases. The plane's tolerance is
+// the near disc's radius, or half the distance to the sample where that is larger (neighbouring
+// blocks, and blocks of one pixel, which have no disc).
+float same_surface(vec3 p, vec3 n, FarSample f)
+{
+    vec3 d = f.position.xyz - p;
+    float tolerance = max(frame.rd_total.w / frame.params.y, 0.5 * length(d));
+    float plane = dot(n, d) / max(tolerance, 1e-30);
+    float facing = max(dot(n, sample_normal(f)), 0.0);
+    facing *= facing;
+    return max(1.0 - plane * plane, 0.0) * facing * facing;
+}
+
+// The far part of each block averaged with its eight neighbours' (weights 1-2-1 per axis) where they
+// lie on the same surface. Each block's sample pattern is rotated differently, so neighbours differ
+// by the sampling noise; the far part itself changes little over a block or two (no light nearer than
+// the near disc), so the average keeps the light and loses most of the noise.
+void far_filter_main()
+{
+    ivec2 blocks = far_blocks(), bp = ivec2(gl_GlobalInvocationID.xy);
+    if (bp.x >= blocks.x || bp.y >= blocks.y)
+        return;
+    uint idx = uint(bp.y * blocks.x + bp.x);
+    FarSample c = far_samples[idx];
+    // Blocks of one pixel have no near disc: their far part holds the point's own light, which an
+    // average would blur.
+    if (c.position.w < 0.0 || FAR_BLOCK == 1) {
+        far_filtered[idx] = c;
+        return;
+    }
+    vec3 n = sample_normal(c);
+    vec3 sum = vec3(0.0);
+    float weights = 0.0;
+    [[unroll]] for (int i = 0; i < 9; i++) {
+        ivec2 off = ivec2(i % 3, i / 3) - 1, q = bp + off;
+        if (q.x < 0 || q.y < 0 || q.x >= blocks.x || q.y >= blocks.y)
+            continue;
+        FarSample f = far_samples[q.y * blocks.x + q.x];
+        float w = f.position.w >= 0.0 ? float((2 - abs(off.x)) * (2 - abs(off.y))) * same_surface(c.position.xyz, n, f)
+                                      : 0.0;
+        sum += f.diffuse.rgb * w;
+        weights += w;
+    }
+    far_filtered[idx] = FarSample(vec4(sum / weights, c.diffuse.w), c.position);
+}
+
+// The far part at a pixel: the four filtered block samples around it, weighted by a tent of one
+// block's radius over the pixels they were integrated at and by how well they share p's surface.
+// Where few samples share p's surface (edges, creases, thin parts), it leans on `local`, the far part
+// of a plane lit as p is.
 vec3 upsampled_far(ivec2 px, vec3 p, vec3 n, vec3 local)
 {
     ivec2 blocks = far_blocks();
     ivec2 first = ivec2(floor((vec2(px) + 0.5) / float(FAR_BLOCK) - 0.5));
-    float inv_tolerance = min(frame.params.y / frame.rd_total.w, 1e30);   // blocks of 1: no disc
     vec3 sum = vec3(0.0);
     float weights = 0.0, tents = 0.0;
     [[unroll]] for (int i = 0; i < 4; i++) {
         ivec2 q = clamp(first + ivec2(i & 1, i >> 1), ivec2(0), blocks - 1);
-        FarSample f = far_samples[q.y * blocks.x + q.x];
+        FarSample f = far_filtered[q.y * blocks.x + q.x];
         int at = int(f.position.w);
         vec2 d = max(1.0 - abs(vec2(at & 4095, at >> 12) - vec2(px)) / float(FAR_BLOCK), 0.0);
         float tent = at >= 0 ? d.x * d.y : 0.0;
-        float plane = dot(n, f.position.xyz - p) * inv_tolerance;
-        float facing = max(dot(n, from_octahedral(unpackSnorm2x16(floatBitsToUint(f.diffuse.w)))), 0.0);
-        facing *= facing;
-        float w = tent * max(1.0 - plane * plane, 0.0) * facing * facing;
+        float w = tent * same_surface(p, n, f);
         sum += f.diffuse.rgb * w;
         weights += w;
         tents += tent;
@@ -404,6 +475,8 @@ void main()
 {
     if (PASS_FAR)
         far_main();
+    else if (PASS_FAR_FILTER)
+        far_filter_main();
     else
         compose_main();
 }

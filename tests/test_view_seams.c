@@ -8,10 +8,12 @@
 #include <stdio.h>
 #include <string.h>
 
-/* Each bound is the value measured when the blending of views went in, times MARGIN. The integration
- * before it (one view a pixel, switched) measured x1.39 and x1.48 on the sphere and x2.92 and x1.28
- * on the protrusion, and fails both; on the bunny the boundaries run along sharp features where both
- * measure the same (x1.03, x0.82), so there it only guards against worse. */
+/* Each bound is the value measured when the far part came to be gathered from every view's share
+ * (the view a pixel chooses then only picks its near part), times MARGIN. The integration before the
+ * blending of views (one view a pixel, switched) measured x1.39 and x1.48 on the sphere and x2.92 and
+ * x1.28 on the protrusion, and fails both; on the bunny the boundaries run along sharp features where
+ * both measure the same (x1.03, x0.82), so there it only guards against worse. At 128^2 the far part
+ * is integrated per pixel and not filtered: its noise is the excess on the sphere (x1.16). */
 struct seam_case {
     const char *mesh;   /* builtin, or NULL: the bunny from argv[1] */
     const char *light;
@@ -21,12 +23,12 @@ struct seam_case {
 };
 
 static const struct seam_case cases[] = {
-    {"sphere", "[-1,0,0]", 128, 1.01, 0.94},
-    {"protrusion", "[-1,0,0]", 128, 0.89, 0.94},
-    {NULL, "[-1,0,0]", 128, 0.97, 0.84},
-    {"sphere", "[-1,0,0]", 256, 1.01, 0.89},
-    {"protrusion", "[-1,0,0]", 512, 1.06, 1.01},
-    {NULL, "[-1,0,0]", 512, 0.98, 0.98},
+    {"sphere", "[-1,0,0]", 128, 1.00, 1.16},
+    {"protrusion", "[-1,0,0]", 128, 0.90, 1.02},
+    {NULL, "[-1,0,0]", 128, 0.96, 0.79},
+    {"sphere", "[-1,0,0]", 256, 0.99, 1.04},
+    {"protrusion", "[-1,0,0]", 512, 1.04, 1.03},
+    {NULL, "[-1,0,0]", 512, 0.97, 1.00},
 };
 /* Renders are deterministic: the margin absorbs another device's rounding. */
 #define MARGIN 1.25

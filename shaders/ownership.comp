@@ -1,0 +1,51 @@
+// ownership.comp - each projection image's share of the surface it shows. The owned images hold, at
+// 2^-frame.owned.x the projection images' resolution, their mean flux times the view's weight
+// among the views that see that surface point: a partition of unity over the views, by how squarely
+// each faces the point, so the far pass can gather from every view and count each lit point once.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "frame.glsl"
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(set = 0, binding = 1) uniform sampler2DArray projection_images;
+layout(set = 0, binding = 9) uniform sampler2DArray projection_normals;
+layout(set = 0, binding = 10, rgba32f) uniform writeonly image2DArray owned_images;
+// x: the first view of the dispatch (0: the front view; 1: the four side views, one per z).
+layout(push_constant) uniform Push { ivec2 first_view; } push;
+#include "views.glsl"
+
+void main()
+{
+    int k = push.first_view.x + int(gl_GlobalInvocationID.z);
+    ivec2 q = ivec2(gl_GlobalInvocationID.xy);
+    int shift = int(frame.owned.x), side = int(frame.view_du[k].w) >> shift;
+    if (q.x >= side || q.y >= side)
+        return;
+    // Level `shift` of the projection images: the mean flux of the texels this one stands for.
+    vec3 flux = texelFetch(projection_images, ivec3(q, k), shift).rgb;
+    // The share is decided at the first covered texel of the four at the block's centre, else of its
+    // corners; texels differ from it only where the view's own silhouette crosses the block.
+    int block = 1 << shift;
+    ivec2 t = q * block;
+    vec4 texel = vec4(0.0, 0.0, 0.0, -1.0);
+    for (int i = 0; i < 8 && texel.a < 0.0 && flux != vec3(0.0); i++) {
+        ivec2 corner = ivec2(i & 1, (i >> 1) & 1);
+        t = q * block + (i < 4 ? max(block / 2 - 1, 0) + corner * min(block - 1, 1) : corner * (block - 1));
+        texel = texelFetch(projection_images, ivec3(t, k), 0);
+    }
+    if (texel.a < 0.0 || flux == vec3(0.0)) {
+        imageStore(owned_images, ivec3(q, k), vec4(0.0, 0.0, 0.0, texel.a));
+        return;
+    }
+    vec3 n = normalize(texelFetch(projection_normals, ivec3(t, k), 0).xyz);
+    vec3 p = frame.view_origin[k].xyz + (float(t.x) + 0.5) * frame.view_du[k].xyz +
+             (float(t.y) + 0.5) * frame.view_dv[k].xyz + texel.a * frame.view_dir[k].xyz;
+    // The texel's own view always counts, however grazing: a point no other view sees stays its.
+    // Views whose weight could not change the share by a thousandth are not looked up.
+    float own = facing_weight(max(view_score(k, n), 1e-3)), total = own;
+    for (int j = 0; j < MAX_VIEWS; j++) {
+        float w = facing_weight(max(view_score(j, n), 0.0));
+        if (j != k && w > 1e-3 * own && visible_in(j, p, n))
+            total += w;
+    }
+    imageStore(owned_images, ivec3(q, k), vec4(flux * (own / total), texel.a));
+}

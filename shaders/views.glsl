@@ -1,0 +1,46 @@
+// views.glsl - where a surface point lands in projection image k and whether that image sees it,
+// shared by the scatter and ownership passes. Needs frame.glsl and `projection_images` declared first.
+
+vec2 texel_coord(int k, vec3 p)
+{
+    vec3 rel = p - frame.view_origin[k].xyz;
+    vec3 du = frame.view_du[k].xyz, dv = frame.view_dv[k].xyz;
+    return vec2(dot(rel, du) / dot(du, du), dot(rel, dv) / dot(dv, dv));
+}
+
+bool inside(int k, ivec2 t)
+{
+    int side = int(frame.view_du[k].w);
+    return t.x >= 0 && t.y >= 0 && t.x < side && t.y < side;
+}
+
+// The point is visible in view k when the depth stored at its texel is its own depth; the tolerance
+// grows with the slope of the surface in that view.
+bool visible_in(int k, vec3 p, vec3 n)
+{
+    ivec2 t = ivec2(floor(texel_coord(k, p)));
+    if (!inside(k, t))
+        return false;
+    float stored = texelFetch(projection_images, ivec3(t, k), 0).a;
+    if (stored < 0.0)
+        return false;
+    float depth = dot(p - frame.view_origin[k].xyz, frame.view_dir[k].xyz);
+    float facing = max(dot(n, -frame.view_dir[k].xyz), 0.1);
+    float tolerance = frame.view_dv[k].w * (1.5 + 1.0 / facing) + frame.params.z;
+    return abs(stored - depth) <= tolerance;
+}
+
+// How squarely view k faces a surface of normal n (the cosine; <= 0: the view sees its back).
+float view_score(int k, vec3 n)
+{
+    return dot(n, -frame.view_dir[k].xyz);
+}
+
+// A view's weight in the share of a surface point among the views that see it (ownership.comp): its
+// facing cosine to the 8th power, so the share passes smoothly from one view to the next over about
+// 30 degrees and the owned images have no hard edges for the mip chain to blur.
+float facing_weight(float c)
+{
+    float c2 = c * c, c4 = c2 * c2;
+    return c4 * c4;
+}
