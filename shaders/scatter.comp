@@ -436,6 +436,28 @@ vec3 upsampled_far(ivec2 px, vec3 p, vec3 n, vec3 local)
     return mix(local, sum / max(weights, 1e-12), trust);
 }
 
+// The share of the near disc that lies on p's own surface in view k, from four taps at 3/4 of its
+// radius: at a sharp edge or a silhouette part of the disc hangs over the edge, where p's light does
+// not spread (the lit face of a cube lit on one face was 1.2-1.3x bright along its edges; cube rel L2
+// 0.057 -> 0.043 at 256^2).
+float disc_coverage(int k, vec3 p, vec3 n)
+{
+    vec2 center = texel_coord(k, p);
+    float radius = 0.75 * frame.rd_total.w / (frame.params.y * frame.view_dv[k].w);   // texels
+    float facing = max(view_score(k, n), 0.1);
+    vec2 slope = vec2(dot(frame.view_du[k].xyz, n), dot(frame.view_dv[k].xyz, n)) / facing;
+    float depth = dot(p - frame.view_origin[k].xyz, frame.view_dir[k].xyz);
+    float tolerance = frame.view_dv[k].w * (1.5 + 1.0 / facing) + frame.params.z;
+    float covered = 0.0;
+    [[unroll]] for (int i = 0; i < 4; i++) {
+        vec2 offset = radius * 0.70710678 * vec2((i & 1) != 0 ? 1.0 : -1.0, (i & 2) != 0 ? 1.0 : -1.0);
+        ivec2 t = ivec2(floor(center + offset));
+        float stored = inside(k, t) ? texelFetch(projection_images, ivec3(t, k), 0).a : -1.0;
+        covered += stored >= 0.0 && abs(stored - depth - dot(offset, slope)) <= tolerance ? 0.25 : 0.0;
+    }
+    return covered;
+}
+
 void compose_main()
 {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
@@ -459,7 +481,7 @@ void compose_main()
         irradiance = mix(irradiance, own_irradiance(k2, p, n), w2);
         near = mix(near, rd_near(view_score(k2, n)), w2);
     }
-    vec3 diffuse = irradiance * near;
+    vec3 diffuse = irradiance * near * (FAR_BLOCK > 1 ? disc_coverage(k, p, n) : 1.0);
     if (SAMPLES > 0)
         diffuse += upsampled_far(px, p, n, irradiance * (frame.rd_total.rgb - near));
     vec3 to_eye = normalize(frame.camera_eye.xyz - p);

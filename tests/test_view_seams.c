@@ -28,7 +28,7 @@ static const struct seam_case cases[] = {
     {NULL, "[-1,0,0]", 128, 0.96, 0.79},
     {"sphere", "[-1,0,0]", 256, 0.99, 1.04},
     {"protrusion", "[-1,0,0]", 512, 1.04, 1.03},
-    {NULL, "[-1,0,0]", 512, 0.97, 1.00},
+    {NULL, "[-1,0,0]", 512, 0.97, 1.05},
 };
 /* Renders are deterministic: the margin absorbs another device's rounding. */
 #define MARGIN 1.25
