@@ -286,6 +286,11 @@ int frame_far_block(int width, int height)
     return pixels > 320 * 320 ? 4 : pixels > 128 * 128 ? 2 : 1;
 }
 
+int frame_far_views(const lucent_scene *scene, const struct frame_plan *plan)
+{
+    return plan->view_count > 1 && scene->fallback != LUCENT_FALLBACK_FRONT ? plan->view_count : 1;
+}
+
 int frame_owned_shift(int projection_size)
 {
     int shift = 0;

@@ -44,6 +44,10 @@ struct frame_plan {
     const char *shadow_reason[LUCENT_MAX_LIGHTS];  /* why light l has or has no shadow map */
 };
 
+/* The views the far annulus is gathered from: all five, over each view's share of the surface (the
+ * owned images), with five views and the default fallback; else 1, the view each point chooses. */
+int frame_far_views(const lucent_scene *scene, const struct frame_plan *plan);
+
 /* The camera of a scene in mesh-centred coordinates (perspective, near/far around the bounding
  * sphere), shared by the raster passes and the reference integrator. */
 lucent_status frame_camera(const lucent_scene *scene, const struct lucent_mesh *mesh, struct view_frame *out,

@@ -258,8 +258,7 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
     const struct gpu_geometry *side_mesh = gpu_mesh_geometry(gm, PROXY_SIDES);
     VkPipeline front, sides = VK_NULL_HANDLE, far = VK_NULL_HANDLE, filter = VK_NULL_HANDLE, compose;
     int five = plan->view_count > 1;
-    /* Five views with the default fallback gather the far annulus from every view's share. */
-    int owned = five && s->fallback != LUCENT_FALLBACK_FRONT && plan->scatter_samples > 0;
+    int owned = frame_far_views(s, plan) > 1 && plan->scatter_samples > 0;
     /* Projection and shadow views look from outside the bounding sphere: on a closed mesh their
      * back faces are always hidden. The camera may be inside. */
     int cull = gm->mesh->closed, cull_camera = cull && plan->camera_outside;

@@ -206,6 +206,7 @@ static void describe(const lucent_scene *requested, const lucent_scene *s, const
     char lights[512] = "", choices[sizeof chosen->decisions + 16] = "";
     size_t n = 0;
     int shared = s->sampling == LUCENT_SAMPLING_SHARED, samples = plan->scatter_samples;
+    int gathered = frame_far_views(s, plan);
     for (int l = 0; l < s->light_count && n < sizeof lights; l++)
         n += (size_t)snprintf(lights + n, sizeof lights - n, "%s\"%s\"", l ? "," : "", plan->shadow_reason[l]);
     if (chosen)
@@ -219,13 +220,14 @@ static void describe(const lucent_scene *requested, const lucent_scene *s, const
              "\"hidden_point_fallback\":\"%s\",\"single_scattering\":%s}",
              method_name(requested->method), choices, plan->view_count,
              samples ? "sampled dipole" : "diffuse limit (irradiance x total R_d)", samples,
-             shared ? "shared" : "per_channel", samples ? (shared ? samples : 3 * samples) : 0,
+             shared ? "shared" : "per_channel", samples ? gathered * (shared ? samples : 3 * samples) : 0,
              samples ? plan->far_block : 0, plan->near_disc_mm, s->projection_size,
              plan->view_count > 1 ? plan->side_projection_size : 0, plan->scale_mm, lights,
              gpu_mesh_geometry(gm, PROXY_FRONT)->index_count / 3, gpu_mesh_geometry(gm, PROXY_SIDES)->index_count / 3,
              plan->view_count == 1 || s->fallback == LUCENT_FALLBACK_FRONT
                  ? "front"
-                 : "next best-facing visible view, then front; the two best views blended in the far part",
+                 : "far part gathered from every view's share of the surface; near part from the next best-facing "
+                   "visible view, then front, the two best views blended",
              s->single_scattering ? "true" : "false");
     stats->triangles = gm->mesh->triangle_count;
     stats->proxy_triangles = gm->proxies[PROXY_FRONT].triangles;
