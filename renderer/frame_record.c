@@ -223,8 +223,8 @@ static void compute_to_compute(VkCommandBuffer cmd)
                          NULL, 0, NULL);
 }
 
-/* The far annulus per block of pixels and its filter (when the profile is sampled), then the compose
- * pass per pixel. */
+/* The far annulus per block of pixels and its filter (when the profile is sampled; no filter for blocks
+ * of one pixel), then the compose pass per pixel. */
 static void record_scatter(const struct frame_gpu *gpu, VkPipeline far, VkPipeline filter, VkPipeline compose,
                            uint32_t block)
 {
@@ -235,7 +235,7 @@ static void record_scatter(const struct frame_gpu *gpu, VkPipeline far, VkPipeli
                             &gpu->targets->scatter_set, 0, NULL);
     vkCmdPushConstants(cmd, gpu->pipes->scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof size, size);
     VkPipeline block_passes[2] = {far, filter};
-    for (int i = 0; far && i < 2; i++) {
+    for (int i = 0; i < 2 && block_passes[i]; i++) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, block_passes[i]);
         vkCmdDispatch(cmd, (frame_far_blocks(w, block) + 7) / 8, (frame_far_blocks(h, block) + 7) / 8, 1);
         compute_to_compute(cmd);
@@ -271,8 +271,10 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
                                       s->sampling, s->fallback, s->single_scattering};
     if (st == LUCENT_OK && plan->scatter_samples)
         st = pipelines_scatter(gpu->ctx, gpu->pipes, &variant, &far, err);
+    /* Blocks of one pixel have no near disc: their far part holds the point's own light, which the
+     * filter would blur, so the compose pass reads the far samples themselves (render_targets.c). */
     variant.pass = SCATTER_FAR_FILTER;
-    if (st == LUCENT_OK && plan->scatter_samples)
+    if (st == LUCENT_OK && plan->scatter_samples && plan->far_block > 1)
         st = pipelines_scatter(gpu->ctx, gpu->pipes, &variant, &filter, err);
     variant.pass = SCATTER_COMPOSE;
     if (st == LUCENT_OK)

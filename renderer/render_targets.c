@@ -105,7 +105,8 @@ static lucent_status make_output(struct vk_context *ctx, struct render_targets *
     uint32_t b = (uint32_t)frame_far_block((int)t->width, (int)t->height);
     VkDeviceSize blocks = (VkDeviceSize)frame_far_blocks(t->width, b) * frame_far_blocks(t->height, b);
     t->far_bytes = blocks * RENDER_TARGETS_FAR_BYTES;
-    t->far_filtered_offset = align_up(t->far_bytes, a);
+    /* Blocks of one pixel are not filtered (frame_record.c): the compose pass reads the far samples. */
+    t->far_filtered_offset = b > 1 ? align_up(t->far_bytes, a) : 0;
     return vk_buffer_create(ctx, t->far_filtered_offset + t->far_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, &t->far,
                             err);
 }

@@ -31,7 +31,7 @@ struct render_targets {
     struct vk_buffer output;                      /* color, normal+view, depth arrays */
     VkDeviceSize color_offset, normal_offset, depth_offset;
     struct vk_buffer far;                         /* the far annulus per frame_far_block() block, then filtered */
-    VkDeviceSize far_bytes, far_filtered_offset;
+    VkDeviceSize far_bytes, far_filtered_offset;  /* offset 0: the filtered samples are the samples */
     VkDescriptorPool pool;
     VkDescriptorSet projection_set, scatter_set;
 };

@@ -20,6 +20,7 @@ layout(std430, set = 0, binding = 6) writeonly buffer OutDepth { float out_depth
 // up to LUCENT_MAX_IMAGE_SIDE 4096; -1: no pixel covered).
 struct FarSample { vec4 diffuse; vec4 position; };
 layout(std430, set = 0, binding = 7) buffer Far { FarSample far_samples[]; };
+// The far samples after PASS_FAR_FILTER; for blocks of one pixel, not filtered, the same range as binding 7.
 layout(std430, set = 0, binding = 11) buffer FarFiltered { FarSample far_filtered[]; };
 layout(set = 0, binding = 8) uniform sampler2DArray owned_images;
 layout(push_constant) uniform Push { ivec2 size; } push;
@@ -75,7 +76,7 @@ int choose_view(vec3 p, vec3 n, int except)
 // smaller by the cosine to the view, with the same floor.
 vec3 surface_irradiance(int k, ivec2 t, vec3 n)
 {
-    return texelFetch(projection_images, ivec3(t, k), 0).rgb * max(dot(n, -frame.view_dir[k].xyz), MIN_AREA_COS);
+    return texelFetch(projection_images, ivec3(t, k), 0).rgb * max(view_score(k, n), MIN_AREA_COS);
 }
 
 float dipole_rd(int c, float r)
@@ -157,11 +158,8 @@ vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px, bool seen, float share)
     float mm_per_texel = frame.params.y * frame.view_dv[k].w;
     float rotation = pixel_rotation(px);
     mat2 rotate = mat2(cos(rotation), sin(rotation), -sin(rotation), cos(rotation));
-    vec3 dir = frame.view_dir[k].xyz;
-    float depth = dot(p - frame.view_origin[k].xyz, dir);
-    // Depth change per texel along x and y on the tangent plane; grazing slopes are capped.
-    float facing = min(dot(dir, n), -0.1);
-    vec2 slope = seen ? -vec2(dot(frame.view_du[k].xyz, n), dot(frame.view_dv[k].xyz, n)) / facing : vec2(0.0);
+    float depth = view_depth(k, p);
+    vec2 slope = seen ? tangent_slope(k, n) : vec2(0.0);
     ivec2 home = ivec2(floor(center));
     float home_depth = inside(k, home) ? texelFetch(projection_images, ivec3(home, k), 0).a : -1.0;
     if (seen && home_depth >= 0.0)
@@ -389,9 +387,7 @@ void far_filter_main()
         return;
     uint idx = uint(bp.y * blocks.x + bp.x);
     FarSample c = far_samples[idx];
-    // Blocks of one pixel have no near disc: their far part holds the point's own light, which an
-    // average would blur.
-    if (c.position.w < 0.0 || FAR_BLOCK == 1) {
+    if (c.position.w < 0.0) {
         far_filtered[idx] = c;
         return;
     }
@@ -444,10 +440,8 @@ float disc_coverage(int k, vec3 p, vec3 n)
 {
     vec2 center = texel_coord(k, p);
     float radius = 0.75 * frame.rd_total.w / (frame.params.y * frame.view_dv[k].w);   // texels
-    float facing = max(view_score(k, n), 0.1);
-    vec2 slope = vec2(dot(frame.view_du[k].xyz, n), dot(frame.view_dv[k].xyz, n)) / facing;
-    float depth = dot(p - frame.view_origin[k].xyz, frame.view_dir[k].xyz);
-    float tolerance = frame.view_dv[k].w * (1.5 + 1.0 / facing) + frame.params.z;
+    vec2 slope = tangent_slope(k, n);
+    float depth = view_depth(k, p), tolerance = depth_tolerance(k, view_score(k, n));
     float covered = 0.0;
     [[unroll]] for (int i = 0; i < 4; i++) {
         vec2 offset = radius * 0.70710678 * vec2((i & 1) != 0 ? 1.0 : -1.0, (i & 2) != 0 ? 1.0 : -1.0);
