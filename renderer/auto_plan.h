@@ -8,10 +8,10 @@
 
 /* Kernels whose 95% radius is under this many texels are summed as the diffuse limit. */
 #define AUTO_DIFFUSE_LIMIT_TEXELS 0.5
-/* Kernels under this many texels (at one texel per pixel) get two texels per pixel instead. */
-#define AUTO_SHARP_KERNEL_TEXELS 2.0
 #define AUTO_MIN_SAMPLES 4
-#define AUTO_MAX_SAMPLES 32
+#define AUTO_MAX_SAMPLES 64
+/* Five views are drawn when more than this share of the entering light is hidden from the front. */
+#define AUTO_HIDDEN_LIGHT_SHARE 0.01
 /* Channels whose kernels differ more than this in radius sample their own profiles. */
 #define AUTO_PER_CHANNEL_SPREAD 3.0
 
@@ -20,6 +20,7 @@ struct auto_plan {
     int diffuse_limit;       /* 1: no sampling, irradiance x integral of R_d */
     double kernel_texels;    /* largest channel's 95% radius in front-image texels */
     double object_pixels;    /* the bounding sphere's diameter on screen, pixels */
+    double hidden_light_share; /* of the entering light, the share on surface facing away from the camera */
     char decisions[640];     /* JSON members (no braces) saying what was chosen and why */
 };
 

@@ -180,22 +180,21 @@ static struct auto_report render_auto(lucent_renderer *r, const char *mesh, cons
         .samples = report_number(stats.modelled, "samples_per_channel"),
         .views = report_number(stats.modelled, "views"),
         .per_channel = strstr(stats.modelled, "\"sampling\":\"per_channel\"") != NULL,
-        .single_view = strstr(stats.modelled, "no visible surface faces a side view") != NULL,
+        .single_view = strstr(stats.modelled, "the front view sees where the light enters") != NULL,
     };
     lucent_image_free(&img);
     return a;
 }
 
-/* The README's rules: one texel per pixel of the object's size (the next power of two, at least 64;
- * two per pixel when the kernel is narrower than 2 texels), samples the power of two covering the
- * kernel's pi r^2 texels within 4..32. */
+/* The README's rules: two texels per pixel of the object's size (the next power of two, 64..512),
+ * samples the power of two covering the kernel's pi r^2 texels within 4..64. */
 static void check_auto_sizes(lucent_renderer *r, int side, double scale_mm)
 {
     struct auto_report a = render_auto(r, "{\"builtin\":\"sphere\"}", "marble", side, scale_mm);
-    double covered = PI * a.kernel_texels * a.kernel_texels, per_pixel = a.kernel_texels < 4.0 ? 2.0 : 1.0;
-    int sized = a.projection + 0.5 >= per_pixel * a.object_pixels &&
-                (a.projection == 64 || a.projection / 2 < per_pixel * a.object_pixels);
-    int sampled = a.samples >= 4 && a.samples <= 32 && (a.samples == 32 || a.samples >= covered) &&
+    double covered = PI * a.kernel_texels * a.kernel_texels;
+    int sized = (a.projection == 512 || a.projection + 0.5 >= 2.0 * a.object_pixels) &&
+                (a.projection == 64 || a.projection / 2 < 2.0 * a.object_pixels);
+    int sampled = a.samples >= 4 && a.samples <= 64 && (a.samples == 64 || a.samples >= covered) &&
                   (a.samples == 4 || a.samples / 2 < covered);
     test_check(sized && sampled && !a.per_channel && a.views == 5,
                "auto, marble sphere %g mm across at %dx%d: object %.1f px -> projection %.0f; kernel %.3g texels "
@@ -208,7 +207,7 @@ static void check_auto_choices(lucent_renderer *r, const char *square)
     check_auto_sizes(r, 48, 0.0);
     check_auto_sizes(r, 160, 0.0);
     check_auto_sizes(r, 512, 0.0);
-    check_auto_sizes(r, 48, 400.0);   /* kernels under 2 texels: two texels per pixel */
+    check_auto_sizes(r, 48, 400.0);   /* kernels of a few texels */
     check_auto_sizes(r, 48, 600.0);
     struct auto_report ketchup = render_auto(r, "{\"builtin\":\"sphere\"}", "ketchup", 96, 0.0);
     test_check(ketchup.per_channel && ketchup.samples >= 4,
@@ -218,7 +217,7 @@ static void check_auto_choices(lucent_renderer *r, const char *square)
     snprintf(mesh, sizeof mesh, "{\"file\":\"%s\"}", square);
     struct auto_report flat = render_auto(r, mesh, "marble", 96, 0.0);
     test_check(flat.single_view && flat.views == 1,
-               "auto, a square facing the camera (no surface faces a side view): %.0f view", flat.views);
+               "auto, a square facing the camera (the front view sees where the light enters): %.0f view", flat.views);
 }
 
 /* ---- the paper's fallback for hidden points ---- */
