@@ -47,51 +47,6 @@ static double object_pixels(const lucent_scene *s, const struct view_frame *cam,
     return fmax(s->height * t / cam->half_h, s->width * t / cam->half_w);
 }
 
-/* Share of the light entering the surface (area x cosine x irradiance, unshadowed) that enters where
- * the front view cannot see it, facing away from the camera. Where that share is negligible the
- * front image holds all the light there is to diffuse, and one view integrates it as well as five
- * (measured: better, with the samples the side views would cost). An open mesh is lit on the side
- * facing the light. */
-static double hidden_light_share(const lucent_scene *s, const struct lucent_mesh *m, const struct view_frame *cam)
-{
-    double hidden = 0.0, total = 0.0;
-    for (uint32_t t = 0; t < m->triangle_count; t++) {
-        const uint32_t *i = &m->indices[(size_t)t * 3];
-        double v[3][3], e1[3], e2[3], n[3], centroid[3];
-        for (int k = 0; k < 3; k++)
-            for (int a = 0; a < 3; a++)
-                v[k][a] = m->positions[(size_t)i[k] * 3 + a];
-        for (int a = 0; a < 3; a++) {
-            e1[a] = v[1][a] - v[0][a];
-            e2[a] = v[2][a] - v[0][a];
-            centroid[a] = (v[0][a] + v[1][a] + v[2][a]) / 3.0;
-        }
-        v3_cross(e1, e2, n);   /* length: twice the area */
-        for (int l = 0; l < s->light_count; l++) {
-            const lucent_light *light = &s->lights[l];
-            double to_light[3], falloff = 1.0;
-            for (int a = 0; a < 3; a++)
-                to_light[a] = light->type == LUCENT_LIGHT_POINT ? light->position[a] - centroid[a] : -light->direction[a];
-            if (light->type == LUCENT_LIGHT_POINT) {
-                double d2 = v3_dot(to_light, to_light);
-                falloff = d2 > 0.0 ? 1.0 / (d2 * sqrt(d2)) : 0.0;   /* 1/d^2, and to_light unnormalized */
-            }
-            double flux = v3_dot(n, to_light) * falloff;
-            double toward_camera = -v3_dot(n, cam->forward);
-            if (flux < 0.0 && !m->closed) {
-                flux = -flux;
-                toward_camera = -toward_camera;
-            }
-            flux *= light->intensity * (light->color[0] + light->color[1] + light->color[2]);
-            if (flux <= 0.0)
-                continue;
-            total += flux;
-            hidden += toward_camera > 0.0 ? 0.0 : flux;
-        }
-    }
-    return total > 0.0 ? hidden / total : 0.0;
-}
-
 lucent_status auto_plan_choose(const lucent_scene *scene, const struct lucent_mesh *mesh, struct auto_plan *out,
                                lucent_error *err)
 {
@@ -126,7 +81,9 @@ lucent_status auto_plan_choose(const lucent_scene *scene, const struct lucent_me
     if (per_channel)
         s->samples = s->samples / 2 > AUTO_MIN_SAMPLES ? s->samples / 2 : AUTO_MIN_SAMPLES;
     s->sampling = per_channel ? LUCENT_SAMPLING_PER_CHANNEL : LUCENT_SAMPLING_SHARED;
-    out->hidden_light_share = hidden_light_share(scene, mesh, &cam);
+    /* Where the front image holds all the light there is to diffuse, one view integrates it as well as
+     * five (measured: better, with the samples the side views would cost). */
+    out->hidden_light_share = frame_light_share(scene, mesh, cam.forward, 0.0, -1, NULL);
     int sides = out->hidden_light_share > AUTO_HIDDEN_LIGHT_SHARE;
     s->method = sides ? LUCENT_METHOD_FIVE : LUCENT_METHOD_SINGLE;
     snprintf(out->decisions, sizeof out->decisions,

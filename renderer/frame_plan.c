@@ -77,40 +77,140 @@ static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh
     return LUCENT_OK;
 }
 
-/* The projection images: front plus the four sides, in the camera's own frame, orthographic and
- * fitted to the bounding sphere. Texel (0,0) of image k is at view_origin, stepping view_du/dv. */
-static void plan_views(const lucent_scene *s, const struct view_frame *cam, double radius, struct frame_plan *plan)
+/* Projection image k: orthographic along dir, fitted to the bounding sphere. Texel (0,0) is at
+ * view_origin, stepping view_du/dv. */
+static void plan_view(int k, const double dir[3], const double up[3], int size, double radius,
+                      struct frame_uniforms *u)
 {
     double clip[16];
+    double texel = 2.0 * radius / size;
+    struct view_frame v = {.perspective = 0, .half_w = radius, .half_h = radius,
+                           .near = radius * 0.5, .far = radius * 3.5};
+    double veye[3];
+    v3_scale_add((double[3]){0, 0, 0}, dir, -2.0 * radius, veye);
+    view_frame_look(&v, veye, dir, up);
+    view_frame_clip(&v, clip);
+    m4_to_float(clip, u->view_clip[k]);
+    double origin[3];
+    v3_scale_add(veye, v.right, -radius, origin);
+    v3_scale_add(origin, v.down, -radius, origin);
+    double du[3], dv[3], zero[3] = {0, 0, 0};
+    v3_scale_add(zero, v.right, texel, du);
+    v3_scale_add(zero, v.down, texel, dv);
+    v3_copy_f4(origin, 0.0, u->view_origin[k]);
+    v3_copy_f4(du, size, u->view_du[k]);
+    v3_copy_f4(dv, texel, u->view_dv[k]);
+    v3_copy_f4(v.forward, 0.0, u->view_dir[k]);
+}
+
+/* The camera's projection images: front plus the four sides, in the camera's own frame. */
+static void plan_views(const lucent_scene *s, const struct view_frame *cam, double radius, struct frame_plan *plan)
+{
     double up_cam[3] = {-cam->down[0], -cam->down[1], -cam->down[2]};
     double right_dir[3] = {-cam->right[0], -cam->right[1], -cam->right[2]};
     /* The left image looks rightwards at the object's left side, and so on. */
-    const double *dirs[FRAME_MAX_VIEWS] = {cam->forward, cam->right, right_dir, cam->down, up_cam};
-    const double *ups[FRAME_MAX_VIEWS] = {up_cam, up_cam, up_cam, cam->forward, cam->forward};
-    struct frame_uniforms *u = &plan->uniforms;
-    int side_size = frame_side_projection_size(s);
-    plan->side_projection_size = side_size;
-    for (int k = 0; k < FRAME_MAX_VIEWS; k++) {
-        int size = k == 0 ? s->projection_size : side_size;
-        double texel = 2.0 * radius / size;
-        struct view_frame v = {.perspective = 0, .half_w = radius, .half_h = radius,
-                               .near = radius * 0.5, .far = radius * 3.5};
-        double veye[3];
-        v3_scale_add((double[3]){0, 0, 0}, dirs[k], -2.0 * radius, veye);
-        view_frame_look(&v, veye, dirs[k], ups[k]);
-        view_frame_clip(&v, clip);
-        m4_to_float(clip, u->view_clip[k]);
-        double origin[3];
-        v3_scale_add(veye, v.right, -radius, origin);
-        v3_scale_add(origin, v.down, -radius, origin);
-        double du[3], dv[3], zero[3] = {0, 0, 0};
-        v3_scale_add(zero, v.right, texel, du);
-        v3_scale_add(zero, v.down, texel, dv);
-        v3_copy_f4(origin, 0.0, u->view_origin[k]);
-        v3_copy_f4(du, size, u->view_du[k]);
-        v3_copy_f4(dv, texel, u->view_dv[k]);
-        v3_copy_f4(v.forward, 0.0, u->view_dir[k]);
+    const double *dirs[FRAME_CAMERA_VIEWS] = {cam->forward, cam->right, right_dir, cam->down, up_cam};
+    const double *ups[FRAME_CAMERA_VIEWS] = {up_cam, up_cam, up_cam, cam->forward, cam->forward};
+    plan->side_projection_size = frame_side_projection_size(s);
+    for (int k = 0; k < FRAME_CAMERA_VIEWS; k++)
+        plan_view(k, dirs[k], ups[k], k == 0 ? s->projection_size : plan->side_projection_size, radius,
+                  &plan->uniforms);
+}
+
+double frame_light_share(const lucent_scene *s, const struct lucent_mesh *m, const double forward[3],
+                         double min_away, int light, double *entering)
+{
+    double hidden = 0.0, total = 0.0;
+    for (uint32_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t *i = &m->indices[(size_t)t * 3];
+        double v[3][3], e1[3], e2[3], n[3], centroid[3];
+        for (int k = 0; k < 3; k++)
+            for (int a = 0; a < 3; a++)
+                v[k][a] = m->positions[(size_t)i[k] * 3 + a];
+        for (int a = 0; a < 3; a++) {
+            e1[a] = v[1][a] - v[0][a];
+            e2[a] = v[2][a] - v[0][a];
+            centroid[a] = (v[0][a] + v[1][a] + v[2][a]) / 3.0;
+        }
+        v3_cross(e1, e2, n);   /* length: twice the area */
+        double twice_area = v3_length(n);
+        if (twice_area == 0.0)
+            continue;
+        for (int l = light < 0 ? 0 : light; l < (light < 0 ? s->light_count : light + 1); l++) {
+            const lucent_light *li = &s->lights[l];
+            double to_light[3], falloff = 1.0;
+            for (int a = 0; a < 3; a++)
+                to_light[a] = li->type == LUCENT_LIGHT_POINT ? li->position[a] - centroid[a] : -li->direction[a];
+            if (li->type == LUCENT_LIGHT_POINT) {
+                double d2 = v3_dot(to_light, to_light);
+                falloff = d2 > 0.0 ? 1.0 / (d2 * sqrt(d2)) : 0.0;   /* 1/d^2, and to_light unnormalized */
+            }
+            double flux = v3_dot(n, to_light) * falloff, away = v3_dot(n, forward) / twice_area;
+            if (flux < 0.0 && !m->closed) {
+                flux = -flux;
+                away = -away;
+            }
+            flux *= li->intensity * (li->color[0] + li->color[1] + li->color[2]);
+            if (flux <= 0.0)
+                continue;
+            total += flux;
+            hidden += away > min_away ? flux : 0.0;
+        }
     }
+    if (entering)
+        *entering = total;
+    return total > 0.0 ? hidden / total : 0.0;
+}
+
+/* Views along the lights whose light enters where no camera view faces the surface well (transmission):
+ * light entering the back is seen by no camera view, so without them it never reaches the front. They
+ * join the gathered integration as views like the others: the ownership pass shares every point among
+ * all views that see it, so light a camera view also sees is counted once. The lights with the most
+ * such light get the FRAME_LIGHT_VIEWS views. */
+static void plan_light_views(const lucent_scene *s, const struct lucent_mesh *mesh, const struct view_frame *cam,
+                             double radius, struct frame_plan *plan)
+{
+    double hidden[LUCENT_MAX_LIGHTS] = {0};
+    for (int l = 0; l < s->light_count; l++) {
+        const lucent_light *li = &s->lights[l];
+        double pos[3], entering;
+        centred(li->position, mesh, pos);
+        plan->transmission_reason[l] = "the camera's views see where its light enters";
+        if (plan->view_count != FRAME_CAMERA_VIEWS || s->fallback == LUCENT_FALLBACK_FRONT || !plan->scatter_samples) {
+            plan->transmission_reason[l] = "none: only the gathered five-view integration takes light views";
+            continue;
+        }
+        if (li->type == LUCENT_LIGHT_POINT && v3_length(pos) <= radius) {
+            plan->transmission_reason[l] = "none: a point light within the object's bounds";
+            continue;
+        }
+        double share = frame_light_share(s, mesh, cam->forward, FRAME_BACK_COS, l, &entering);
+        if (share > FRAME_LIGHT_VIEW_SHARE)
+            hidden[l] = share * entering;
+    }
+    double up_cam[3] = {-cam->down[0], -cam->down[1], -cam->down[2]};
+    for (int v = 0; v < FRAME_LIGHT_VIEWS; v++) {
+        int best = -1;
+        for (int l = 0; l < s->light_count; l++)
+            if (hidden[l] > 0.0 && (best < 0 || hidden[l] > hidden[best]))
+                best = l;
+        if (best < 0)
+            break;
+        hidden[best] = 0.0;
+        const lucent_light *li = &s->lights[best];
+        double dir[3], pos[3];
+        centred(li->position, mesh, pos);
+        for (int a = 0; a < 3; a++)
+            dir[a] = li->type == LUCENT_LIGHT_POINT ? -pos[a] : li->direction[a];
+        v3_normalize(dir);
+        const double *up = fabs(v3_dot(dir, up_cam)) < 0.9 ? up_cam : cam->forward;
+        plan_view(plan->view_count, dir, up, plan->side_projection_size, radius, &plan->uniforms);
+        plan->view_count++;
+        plan->transmission_reason[best] = "light view";
+    }
+    for (int l = 0; l < s->light_count; l++)
+        if (hidden[l] > 0.0)
+            plan->transmission_reason[l] = "none: the light views went to lights with more light entering unseen";
 }
 
 /* A light needs a shadow map only when the mesh can occlude it from itself. */
@@ -220,6 +320,23 @@ static void shared_samples(const struct dipole d[3], double r_min, double r_max,
         set_sample(u->samples[j], radii[j], weights[j], j * GOLDEN_ANGLE);
 }
 
+/* The light views' evenly spread samples over the annulus r_min..r_max (equal areas, golden-angle
+ * turns), and the far samples' densities to weigh both sets against each other (balance heuristic). */
+static void through_samples(const struct dipole d[3], double r_min, double r_max, struct frame_uniforms *u)
+{
+    double area = PI * (r_max * r_max - r_min * r_min) / FRAME_THROUGH_SAMPLES, span_mix = 0.0;
+    for (int j = 0; j < FRAME_THROUGH_SAMPLES; j++) {
+        double r = sqrt(r_min * r_min + (r_max * r_max - r_min * r_min) * (j + 0.5) / FRAME_THROUGH_SAMPLES);
+        set_sample(u->through[j], r, area, j * GOLDEN_ANGLE + 1.0);
+    }
+    for (int c = 0; c < 3; c++) {
+        double total = dipole_rd_disc(&d[c], r_max), span = total - dipole_rd_disc(&d[c], r_min);
+        u->through_pdf[c] = (float)span;
+        span_mix += span / (3.0 * total);
+    }
+    u->through_pdf[3] = (float)span_mix;
+}
+
 /* R_d over the preimage of the projection-plane disc of radius r on a surface tilted to the view by
  * cosine c: an ellipse with semi-axes r and r / c, whose boundary lies r sqrt(cos^2 phi + sin^2 phi / c^2)
  * from its centre; the mean of the disc integral to that distance over phi. */
@@ -278,6 +395,7 @@ static void plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
         shared_samples(d, r_near, r_max, plan->scatter_samples, u);
     else
         per_channel_samples(d, r_near, r_max, plan->scatter_samples, u);
+    through_samples(d, r_near, r_max, u);
 }
 
 int frame_far_block(int width, int height)
@@ -317,15 +435,17 @@ lucent_status frame_plan_build(const lucent_scene *scene, const struct lucent_me
     plan->scatter_samples = diffuse_limit ? 0 : scene->samples;
     plan->far_block = frame_far_block(scene->width, scene->height);
     plan->scale_mm = frame_scale_mm(scene, mesh);
-    plan->view_count = scene->method == LUCENT_METHOD_SINGLE ? 1 : FRAME_MAX_VIEWS;
+    plan->view_count = scene->method == LUCENT_METHOD_SINGLE ? 1 : FRAME_CAMERA_VIEWS;
     struct view_frame cam;
     lucent_status st = plan_camera(scene, mesh, &cam, plan, err);
     if (st != LUCENT_OK)
         return st;
     plan_views(scene, &cam, mesh->radius * FRAME_FIT_MARGIN, plan);
+    plan_light_views(scene, mesh, &cam, mesh->radius * FRAME_FIT_MARGIN, plan);
     plan_lights(scene, mesh, proxy_tolerance, plan);
     plan_material(scene, mesh, plan);
     struct frame_uniforms *u = &plan->uniforms;
+    u->owned[1] = (float)plan->view_count;
     u->params[0] = (float)scene->material.eta;
     u->params[1] = (float)plan->scale_mm;
     u->params[2] = (float)(proxy_tolerance + mesh->radius * 1e-5);

@@ -31,7 +31,7 @@ struct frame_plan {
     struct view_frame camera;               /* mesh-centred, as frame_camera() gives it */
     float camera_clip[16];
     float camera_eye[4];
-    int view_count;                         /* 1 (single) or 5 */
+    int view_count;                         /* 1 (single), or 5 plus the light views */
     int scatter_samples;                    /* per channel; 0 = diffuse limit (no sampling) */
     int far_block;                          /* pixels a side of one far-annulus sample: 1, 2 or 4 */
     double near_disc_mm;                    /* radius of the near part's disc */
@@ -42,7 +42,20 @@ struct frame_plan {
     float shadow_clip[LUCENT_MAX_LIGHTS][16];
     double scale_mm;                        /* resolved millimetres per scene unit */
     const char *shadow_reason[LUCENT_MAX_LIGHTS];  /* why light l has or has no shadow map */
+    const char *transmission_reason[LUCENT_MAX_LIGHTS];  /* why light l has or has no light view */
 };
+
+/* A light gets a light view (transmission) when more than FRAME_LIGHT_VIEW_SHARE of its entering light
+ * enters on surface within acos(FRAME_BACK_COS) of facing straight away from the camera, where no
+ * camera view faces it by more than cos 60 degrees. */
+#define FRAME_BACK_COS 0.866
+#define FRAME_LIGHT_VIEW_SHARE 0.10
+/* Share of light `light`'s entering light (every light's when `light` < 0; area x cosine x irradiance,
+ * unshadowed) entering on surface whose normal's cosine to `forward` (the camera's) exceeds `min_away`
+ * (0: any surface facing away from the camera); *entering (may be NULL): the total. An open mesh is lit
+ * on the side facing the light. */
+double frame_light_share(const lucent_scene *scene, const struct lucent_mesh *mesh, const double forward[3],
+                         double min_away, int light, double *entering);
 
 /* The views the far annulus is gathered from: all five, over each view's share of the surface (the
  * owned images), with five views and the default fallback; else 1, the view each point chooses. */

@@ -66,9 +66,10 @@ static void record_projection_pass(const struct frame_gpu *gpu, int which, const
     /* Depth -1 marks texels no surface covers. */
     VkClearValue clears[3] = {{.color = {{0.0f, 0.0f, 0.0f, -1.0f}}}, {.color = {{0}}}, {.depthStencil = {1.0f, 0}}};
     uint32_t side = which == PROJECTION_FRONT ? t->projection_size : t->side_size;
-    int32_t view_base = which == PROJECTION_FRONT ? 0 : 1;
-    begin_pass(cmd, gpu->pipes->projection_pass[which], which == PROJECTION_FRONT ? t->front_fb : t->sides_fb,
-               side, side, clears, 3);
+    static const int32_t first_view[PROJECTION_PASSES] = {0, 1, 1 + SIDE_VIEWS};
+    VkFramebuffer fb[PROJECTION_PASSES] = {t->front_fb, t->sides_fb, t->lights_fb};
+    int32_t view_base = first_view[which];
+    begin_pass(cmd, gpu->pipes->projection_pass[which], fb[which], side, side, clears, 3);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, gpu->pipes->projection_layout, 0, 1,
                             &t->projection_set, 0, NULL);
@@ -79,13 +80,15 @@ static void record_projection_pass(const struct frame_gpu *gpu, int which, const
     vkCmdEndRenderPass(cmd);
 }
 
-/* The side images (flux and depth, and normals) go into the top-left side_size^2 corner of layers 1-4
- * of the sampled arrays, where the scatter pass's texel coordinates for those views point. */
-static void copy_sides(const struct frame_gpu *gpu)
+/* The side or light images (flux and depth, and normals: `flux`, `normals`, `count` layers) go into the
+ * top-left side_size^2 corner of layers first..first + count - 1 of the sampled arrays, where the
+ * scatter pass's texel coordinates for those views point. */
+static void copy_sides(const struct frame_gpu *gpu, const struct vk_image *flux, const struct vk_image *normals,
+                       uint32_t first, uint32_t count)
 {
     VkCommandBuffer cmd = gpu->ctx->cmd;
     const struct render_targets *t = gpu->targets;
-    VkImage from[2] = {t->sides.image, t->side_normals.image}, to[2] = {t->projection.image, t->normals.image};
+    VkImage from[2] = {flux->image, normals->image}, to[2] = {t->projection.image, t->normals.image};
     VkImageMemoryBarrier b[2];
     for (int i = 0; i < 2; i++)
         b[i] = (VkImageMemoryBarrier){.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
@@ -96,11 +99,11 @@ static void copy_sides(const struct frame_gpu *gpu)
                                       .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
                                       .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
                                       .image = to[i],
-                                      .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 1, SIDE_VIEWS}};
+                                      .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, first, count}};
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
                          NULL, 0, NULL, 2, b);
-    VkImageCopy region = {.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, SIDE_VIEWS},
-                          .dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, SIDE_VIEWS},
+    VkImageCopy region = {.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, count},
+                          .dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, first, count},
                           .extent = {t->side_size, t->side_size, 1}};
     for (int i = 0; i < 2; i++) {
         vkCmdCopyImage(cmd, from[i], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, to[i], VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
@@ -126,8 +129,8 @@ static VkImageMemoryBarrier level_barrier(const struct vk_image *img, uint32_t l
 
 /* Each view's share of the flux it shows, into level 0 of the owned images (ownership.comp, from level
  * frame_owned_shift() of the projection images): every texel of every view's square (the side
- * layers' corners only), the front view and the four sides in one dispatch each. */
-static void record_ownership(const struct frame_gpu *gpu)
+ * layers' corners only), the front view, and the side and light views, in one dispatch each. */
+static void record_ownership(const struct frame_gpu *gpu, uint32_t side_views)
 {
     VkCommandBuffer cmd = gpu->ctx->cmd;
     const struct render_targets *t = gpu->targets;
@@ -146,7 +149,7 @@ static void record_ownership(const struct frame_gpu *gpu)
     vkCmdDispatch(cmd, (front + 7) / 8, (front + 7) / 8, 1);
     first_view[0] = 1;
     vkCmdPushConstants(cmd, gpu->pipes->scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof first_view, first_view);
-    vkCmdDispatch(cmd, (sides + 7) / 8, (sides + 7) / 8, SIDE_VIEWS);
+    vkCmdDispatch(cmd, (sides + 7) / 8, (sides + 7) / 8, side_views);
 }
 
 /* Level i of a layer is the 2x2 mean of level i-1: flux per unit of image area, averaged, so a texel
@@ -167,9 +170,10 @@ static void blit_level(VkCommandBuffer cmd, const struct vk_image *img, uint32_t
 }
 
 /* The mip chain of the projection or the owned images, `levels` levels of it, whose level 0 (of side
- * `size`, the side views' `side_size`) was just written in layout `written_as`. */
+ * `size`; the `side_views` layers after it, side and light views, `side_size`) was just written in
+ * layout `written_as`. */
 static void record_mips(const struct frame_gpu *gpu, const struct vk_image *img, VkImageLayout written_as,
-                        uint32_t levels, uint32_t size, uint32_t side_size, int five)
+                        uint32_t levels, uint32_t size, uint32_t side_size, uint32_t side_views)
 {
     VkCommandBuffer cmd = gpu->ctx->cmd;
     VkPipelineStageFlags drawn = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
@@ -185,8 +189,8 @@ static void record_mips(const struct frame_gpu *gpu, const struct vk_image *img,
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL,
                              0, NULL, 1, &b);
         blit_level(cmd, img, level, size, 0, 1);
-        if (five && side_size >> level)
-            blit_level(cmd, img, level, side_size, 1, SIDE_VIEWS);
+        if (side_views && side_size >> level)
+            blit_level(cmd, img, level, side_size, 1, side_views);
         b = level_barrier(img, level, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                           VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT);
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0,
@@ -256,7 +260,8 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
     VkCommandBuffer cmd = gpu->ctx->cmd;
     const struct gpu_geometry *front_mesh = gpu_mesh_geometry(gm, PROXY_FRONT);
     const struct gpu_geometry *side_mesh = gpu_mesh_geometry(gm, PROXY_SIDES);
-    VkPipeline front, sides = VK_NULL_HANDLE, far = VK_NULL_HANDLE, filter = VK_NULL_HANDLE, compose;
+    VkPipeline front, sides = VK_NULL_HANDLE, lights = VK_NULL_HANDLE, far = VK_NULL_HANDLE, filter = VK_NULL_HANDLE;
+    VkPipeline compose;
     int five = plan->view_count > 1;
     int owned = frame_far_views(s, plan) > 1 && plan->scatter_samples > 0;
     /* Projection and shadow views look from outside the bounding sphere: on a closed mesh their
@@ -267,6 +272,9 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
     if (st == LUCENT_OK && five)
         st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_SIDES, s->light_count,
                                   plan->shadow_mask, cull, &sides, err);
+    if (st == LUCENT_OK && plan->view_count > FRAME_CAMERA_VIEWS)
+        st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_LIGHTS, s->light_count,
+                                  plan->shadow_mask, cull, &lights, err);
     struct scatter_variant variant = {SCATTER_FAR, plan->far_block, plan->scatter_samples, plan->view_count,
                                       s->sampling, s->fallback, s->single_scattering};
     if (st == LUCENT_OK && plan->scatter_samples)
@@ -290,20 +298,25 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
     record_shadows(gpu, plan, side_mesh, cull);
     stamp(gpu, TS_SHADOW);
     record_projection_pass(gpu, PROJECTION_FRONT, front_mesh, front);
+    uint32_t side_views = (uint32_t)plan->view_count - 1;
     if (five) {
         record_projection_pass(gpu, PROJECTION_SIDES, side_mesh, sides);
-        copy_sides(gpu);
+        copy_sides(gpu, &gpu->targets->sides, &gpu->targets->side_normals, 1, SIDE_VIEWS);
+    }
+    if (lights) {
+        record_projection_pass(gpu, PROJECTION_LIGHTS, side_mesh, lights);
+        copy_sides(gpu, &gpu->targets->lights, &gpu->targets->light_normals, 1 + SIDE_VIEWS, side_views - SIDE_VIEWS);
     }
     const struct render_targets *t = gpu->targets;
     VkImageLayout drawn = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     if (owned) {   /* level frame_owned_shift() of the projection images is the owned images' source */
         int shift = frame_owned_shift((int)t->projection_size);
-        record_mips(gpu, &t->projection, drawn, (uint32_t)shift + 1, t->projection_size, t->side_size, five);
-        record_ownership(gpu);
+        record_mips(gpu, &t->projection, drawn, (uint32_t)shift + 1, t->projection_size, t->side_size, side_views);
+        record_ownership(gpu, side_views);
         record_mips(gpu, &t->owned, VK_IMAGE_LAYOUT_GENERAL, t->owned.levels, t->projection_size >> shift,
-                    t->side_size >> shift, five);
+                    t->side_size >> shift, side_views);
     } else {
-        record_mips(gpu, &t->projection, drawn, t->projection.levels, t->projection_size, t->side_size, five);
+        record_mips(gpu, &t->projection, drawn, t->projection.levels, t->projection_size, t->side_size, side_views);
     }
     stamp(gpu, TS_PROJECTION);
     record_gbuffer(gpu, plan, &gm->full, cull_camera);

@@ -5,7 +5,13 @@
 
 #include "lucent.h"
 
-#define FRAME_MAX_VIEWS 5
+/* The camera's five views (front, then four sides), then up to FRAME_LIGHT_VIEWS views along lights
+ * whose light enters where no camera view faces the surface (transmission, frame_plan.c). */
+#define FRAME_CAMERA_VIEWS 5
+#define FRAME_LIGHT_VIEWS 2
+#define FRAME_MAX_VIEWS (FRAME_CAMERA_VIEWS + FRAME_LIGHT_VIEWS)
+/* THROUGH_SAMPLES in frame.glsl: the evenly spread samples of the light views (transmission). */
+#define FRAME_THROUGH_SAMPLES 16
 /* MIN_AREA_COS in frame.glsl: the smallest cosine to a view a texel's area is divided by. */
 #define FRAME_MIN_AREA_COS 0.1
 /* NEAR_TABLE in frame.glsl: entries of the near part's R_d integral over the view's tilt. */
@@ -30,8 +36,11 @@ struct frame_uniforms {
     float rd_total[4];
     float near_rd[FRAME_NEAR_TABLE][4];
     float single_albedo[4];
-    float owned[4];   /* x: the owned images' side is the projection images' >> x (frame_owned_shift) */
+    float owned[4];   /* x: the owned images' side is the projection images' >> x (frame_owned_shift);
+                       * y: views drawn (frame_plan.view_count) */
     float samples[3 * LUCENT_MAX_SAMPLES][4];
+    float through_pdf[4];
+    float through[FRAME_THROUGH_SAMPLES][4];
 };
 
 #endif

@@ -262,6 +262,8 @@ lucent_status pipelines_create(struct vk_context *ctx, struct pipelines *p, luce
         (st = make_render_pass(ctx, 2, PROJECTION_FORMAT, 0, 0, 0, &p->projection_pass[PROJECTION_FRONT], err)) ||
         (st = make_render_pass(ctx, 2, PROJECTION_FORMAT, 0, (1u << SIDE_VIEWS) - 1, 1,
                                &p->projection_pass[PROJECTION_SIDES], err)) ||
+        (st = make_render_pass(ctx, 2, PROJECTION_FORMAT, 0, (1u << FRAME_LIGHT_VIEWS) - 1, 1,
+                               &p->projection_pass[PROJECTION_LIGHTS], err)) ||
         (st = make_render_pass(ctx, 2, GBUFFER_FORMAT, 0, 0, 0, &p->gbuffer_pass, err)) ||
         (st = make_layouts(ctx, p, err)) || (st = make_sampler(ctx, 0, VK_FILTER_NEAREST, &p->nearest, err)) ||
         (st = make_sampler(ctx, 0, VK_FILTER_LINEAR, &p->filtered, err)) ||
@@ -290,8 +292,8 @@ lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, 
     if (lights < 1 || lights > LUCENT_MAX_LIGHTS || shadow_mask >> lights)
         return lucent_fail(err, LUCENT_E_INTERNAL, "", "no projection pipeline for %d lights, mask 0x%x", lights,
                            (unsigned)shadow_mask);
-    size_t slot = (((size_t)cull * 2 + (size_t)which) * LUCENT_MAX_LIGHTS + (size_t)(lights - 1)) << LUCENT_MAX_LIGHTS |
-                  shadow_mask;
+    size_t variant = ((size_t)cull * PROJECTION_PASSES + (size_t)which) * LUCENT_MAX_LIGHTS + (size_t)(lights - 1);
+    size_t slot = variant << LUCENT_MAX_LIGHTS | shadow_mask;
     if (!p->projection[slot]) {
         int32_t values[2] = {lights, (int32_t)shadow_mask};
         VkSpecializationMapEntry entries[2] = {{0, 0, 4}, {1, 4, 4}};
@@ -309,7 +311,8 @@ lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, 
 lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, const struct scatter_variant *v,
                                 VkPipeline *out, lucent_error *err)
 {
-    if (v->samples < 0 || v->samples > LUCENT_MAX_SAMPLES || (v->views != 1 && v->views != 5) ||
+    int views = v->views == 1 ? 0 : v->views - FRAME_CAMERA_VIEWS + 1;   /* 0: one view; 1..: five + lights */
+    if (v->samples < 0 || v->samples > LUCENT_MAX_SAMPLES || views < 0 || views >= VIEW_VARIANTS ||
         v->pass < SCATTER_COMPOSE || v->pass > SCATTER_FAR_FILTER || (v->pass != SCATTER_COMPOSE && v->samples == 0) ||
         (v->block != 1 && v->block != 2 && v->block != 4))
         return lucent_fail(err, LUCENT_E_INTERNAL, "", "no scatter pipeline for %d samples, %d views%s", v->samples,
@@ -317,7 +320,7 @@ lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, con
     int shared = v->sampling == LUCENT_SAMPLING_SHARED, front = v->fallback == LUCENT_FALLBACK_FRONT;
     int single = v->single_scattering != 0;
     size_t pass = (size_t)v->pass * 3 + (size_t)(v->block == 4 ? 2 : v->block - 1);
-    size_t slot = ((((pass * (LUCENT_MAX_SAMPLES + 1) + (size_t)v->samples) * 2 + (v->views == 5)) * 2 +
+    size_t slot = ((((pass * (LUCENT_MAX_SAMPLES + 1) + (size_t)v->samples) * VIEW_VARIANTS + (size_t)views) * 2 +
                     (size_t)shared) * 2 + (size_t)front) * 2 + (size_t)single;
     if (!p->scatter[slot]) {
         int32_t values[7] = {v->samples, v->views, shared, front, single, v->pass, v->block};
@@ -349,7 +352,8 @@ void pipelines_destroy(struct vk_context *ctx, struct pipelines *p)
         vkDestroyPipelineLayout(d, layouts[i], NULL);
     vkDestroyDescriptorSetLayout(d, p->projection_set_layout, NULL);
     vkDestroyDescriptorSetLayout(d, p->scatter_set_layout, NULL);
-    VkRenderPass passes[] = {p->shadow_pass, p->projection_pass[0], p->projection_pass[1], p->gbuffer_pass};
+    VkRenderPass passes[] = {p->shadow_pass, p->projection_pass[0], p->projection_pass[1], p->projection_pass[2],
+                             p->gbuffer_pass};
     for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++)
         vkDestroyRenderPass(d, passes[i], NULL);
     vkDestroySampler(d, p->nearest, NULL);

@@ -3,23 +3,26 @@
 #ifndef LUCENT_PIPELINES_H
 #define LUCENT_PIPELINES_H
 
+#include "frame_uniforms.h"
 #include "vk_context.h"
 
 #define PROJECTION_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT  /* flux + depth: fp16 over/underflows */
 #define GBUFFER_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
 #define DEPTH_FORMAT VK_FORMAT_D32_SFLOAT
 
-/* The projection images are drawn in two passes: the front view at projection_size, and the four
- * side views in one multiview pass at their own (smaller) size, copied afterwards into the corners
- * of layers 1-4 of the front image's array. Each pass writes flux and depth, and the normal. Index
- * into projection_pass and the variant key. */
-enum { PROJECTION_FRONT = 0, PROJECTION_SIDES = 1 };
+/* The projection images are drawn in up to three passes: the front view at projection_size, the
+ * four side views in one multiview pass at their own (smaller) size, and, where the plan has light
+ * views, those in another at the side views' size (a second light view not planned draws nothing:
+ * its matrix is zero). The side and light images are copied afterwards into the corners of layers
+ * 1-4 and 5-6 of the front image's array. Each pass writes flux and depth, and the normal. Index into
+ * projection_pass and the variant key. */
+enum { PROJECTION_FRONT = 0, PROJECTION_SIDES = 1, PROJECTION_LIGHTS = 2, PROJECTION_PASSES = 3 };
 #define SIDE_VIEWS 4
 
 /* Projection pipelines are specialized by culling, front/sides, light count and which lights are
  * shadowed: CPU drivers pay for every branch, taken or not. Built on first use, kept with the
  * pipelines. */
-#define PROJECTION_VARIANTS (2 * 2 * LUCENT_MAX_LIGHTS * (1 << LUCENT_MAX_LIGHTS))
+#define PROJECTION_VARIANTS (2 * PROJECTION_PASSES * LUCENT_MAX_LIGHTS * (1 << LUCENT_MAX_LIGHTS))
 /* Scatter pipelines likewise, by pass, block size, sample count (0: diffuse limit), view count,
  * sampling scheme, hidden-point fallback and single scattering. The passes, in order: the far annulus
  * per block, its filter over neighbouring blocks, and the compose pass per pixel (scatter.comp). */
@@ -36,11 +39,13 @@ struct scatter_variant {
  * color, normal and depth buffers, the far samples, the owned images (sampled), the projection
  * normals, the owned images' level 0 (storage) and the filtered far samples. */
 #define SCATTER_BINDINGS 12
-#define SCATTER_VARIANTS (3 * 3 * (LUCENT_MAX_SAMPLES + 1) * 2 * 2 * 2 * 2)
+/* View counts: 1, or the five camera views plus 0..FRAME_LIGHT_VIEWS light views. */
+#define VIEW_VARIANTS (FRAME_LIGHT_VIEWS + 2)
+#define SCATTER_VARIANTS (3 * 3 * (LUCENT_MAX_SAMPLES + 1) * VIEW_VARIANTS * 2 * 2 * 2)
 
 struct pipelines {
     VkRenderPass shadow_pass;
-    VkRenderPass projection_pass[2];
+    VkRenderPass projection_pass[PROJECTION_PASSES];
     VkRenderPass gbuffer_pass;
     VkDescriptorSetLayout projection_set_layout;
     VkDescriptorSetLayout scatter_set_layout;
@@ -60,11 +65,11 @@ struct gbuffer_push {
 };
 
 lucent_status pipelines_create(struct vk_context *ctx, struct pipelines *p, lucent_error *err);
-/* The projection pipeline for `which` (PROJECTION_FRONT/SIDES), 1..LUCENT_MAX_LIGHTS lights, a
+/* The projection pipeline for `which` (PROJECTION_FRONT/SIDES/LIGHTS), 1..LUCENT_MAX_LIGHTS lights, a
  * shadow mask (bit l: light l is shadowed) and back-face culling, created on first use. */
 lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, int which, int lights,
                                    uint32_t shadow_mask, int cull, VkPipeline *out, lucent_error *err);
-/* The scatter pipeline for a variant (0..LUCENT_MAX_SAMPLES samples, 1 or 5 views; a far pass needs
+/* The scatter pipeline for a variant (0..LUCENT_MAX_SAMPLES samples, 1 or 5..FRAME_MAX_VIEWS views; a far pass needs
  * samples), created on first use. */
 lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, const struct scatter_variant *v,
                                 VkPipeline *out, lucent_error *err);

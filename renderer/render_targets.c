@@ -63,13 +63,19 @@ static lucent_status make_projection(struct vk_context *ctx, const struct pipeli
         (st = vk_image_create(ctx, s, s, 1, DEPTH_FORMAT, depth, &t->front_depth, err)) ||
         (st = vk_image_create(ctx, side, side, SIDE_VIEWS, PROJECTION_FORMAT, copied, &t->sides, err)) ||
         (st = vk_image_create(ctx, side, side, SIDE_VIEWS, PROJECTION_FORMAT, copied, &t->side_normals, err)) ||
-        (st = vk_image_create(ctx, side, side, SIDE_VIEWS, DEPTH_FORMAT, depth, &t->sides_depth, err)))
+        (st = vk_image_create(ctx, side, side, SIDE_VIEWS, DEPTH_FORMAT, depth, &t->sides_depth, err)) ||
+        (st = vk_image_create(ctx, side, side, FRAME_LIGHT_VIEWS, PROJECTION_FORMAT, copied, &t->lights, err)) ||
+        (st = vk_image_create(ctx, side, side, FRAME_LIGHT_VIEWS, PROJECTION_FORMAT, copied, &t->light_normals, err)) ||
+        (st = vk_image_create(ctx, side, side, FRAME_LIGHT_VIEWS, DEPTH_FORMAT, depth, &t->lights_depth, err)))
         return st;
     VkImageView front[3] = {t->front_layer, t->front_normals, t->front_depth.view};
     VkImageView sides[3] = {t->sides.view, t->side_normals.view, t->sides_depth.view};
     if ((st = make_framebuffer(ctx, p->projection_pass[PROJECTION_FRONT], front, 3, s, s, &t->front_fb, err)))
         return st;
-    return make_framebuffer(ctx, p->projection_pass[PROJECTION_SIDES], sides, 3, side, side, &t->sides_fb, err);
+    VkImageView lights[3] = {t->lights.view, t->light_normals.view, t->lights_depth.view};
+    if ((st = make_framebuffer(ctx, p->projection_pass[PROJECTION_SIDES], sides, 3, side, side, &t->sides_fb, err)))
+        return st;
+    return make_framebuffer(ctx, p->projection_pass[PROJECTION_LIGHTS], lights, 3, side, side, &t->lights_fb, err);
 }
 
 static lucent_status make_gbuffer(struct vk_context *ctx, const struct pipelines *p, struct render_targets *t,
@@ -251,6 +257,10 @@ void render_targets_destroy(struct vk_context *ctx, struct render_targets *t)
     vk_image_destroy(ctx, &t->gbuffer_depth);
     vk_image_destroy(ctx, &t->gbuffer_normal);
     vk_image_destroy(ctx, &t->gbuffer_position);
+    vkDestroyFramebuffer(d, t->lights_fb, NULL);
+    vk_image_destroy(ctx, &t->lights_depth);
+    vk_image_destroy(ctx, &t->light_normals);
+    vk_image_destroy(ctx, &t->lights);
     vkDestroyFramebuffer(d, t->sides_fb, NULL);
     vk_image_destroy(ctx, &t->sides_depth);
     vk_image_destroy(ctx, &t->side_normals);

@@ -15,7 +15,7 @@ struct render_targets {
     struct vk_image shadow_depth;                 /* SHADOW_MAP_SIZE^2 x LUCENT_MAX_LIGHTS layers */
     VkImageView shadow_layer[LUCENT_MAX_LIGHTS];
     VkFramebuffer shadow_fb[LUCENT_MAX_LIGHTS];
-    struct vk_image projection;                   /* projection_size^2 x 5 layers, sampled */
+    struct vk_image projection;                   /* projection_size^2 x FRAME_MAX_VIEWS layers, sampled */
     VkImageView front_layer;
     struct vk_image normals;                      /* the projection images' surface normals, same layout */
     VkImageView front_normals;
@@ -26,6 +26,8 @@ struct render_targets {
     VkFramebuffer front_fb;
     struct vk_image sides, side_normals, sides_depth;  /* side_size^2 x 4 layers, copied into the arrays */
     VkFramebuffer sides_fb;
+    struct vk_image lights, light_normals, lights_depth;  /* side_size^2 x FRAME_LIGHT_VIEWS, likewise */
+    VkFramebuffer lights_fb;
     struct vk_image gbuffer_position, gbuffer_normal, gbuffer_depth;
     VkFramebuffer gbuffer_fb;
     struct vk_buffer output;                      /* color, normal+view, depth arrays */

@@ -209,20 +209,25 @@ static void describe(const lucent_scene *requested, const lucent_scene *s, const
     int gathered = frame_far_views(s, plan);
     for (int l = 0; l < s->light_count && n < sizeof lights; l++)
         n += (size_t)snprintf(lights + n, sizeof lights - n, "%s\"%s\"", l ? "," : "", plan->shadow_reason[l]);
+    char through[512] = "";
+    size_t m = 0;
+    for (int l = 0; l < s->light_count && m < sizeof through; l++)
+        m += (size_t)snprintf(through + m, sizeof through - m, "%s\"%s\"", l ? "," : "",
+                              plan->transmission_reason[l]);
     if (chosen)
         snprintf(choices, sizeof choices, "\"auto\":{%s},", chosen->decisions);
     snprintf(stats->modelled, sizeof stats->modelled,
              "{\"method\":\"%s\",%s\"views\":%d,\"subsurface\":\"%s\",\"samples_per_channel\":%d,"
              "\"sampling\":\"%s\",\"texel_fetches_per_far_sample\":%d,\"far_block_pixels\":%d,"
              "\"near_disc_mm\":%.6g,\"projection_size\":%d,"
-             "\"side_projection_size\":%d,\"scale_mm\":%.9g,\"shadows\":[%s],"
+             "\"side_projection_size\":%d,\"scale_mm\":%.9g,\"shadows\":[%s],\"transmission\":[%s],"
              "\"projection_triangles\":{\"front\":%u,\"sides_and_shadows\":%u},"
              "\"hidden_point_fallback\":\"%s\",\"single_scattering\":%s}",
              method_name(requested->method), choices, plan->view_count,
              samples ? "sampled dipole" : "diffuse limit (irradiance x total R_d)", samples,
              shared ? "shared" : "per_channel", samples ? gathered * (shared ? samples : 3 * samples) : 0,
              samples ? plan->far_block : 0, plan->near_disc_mm, s->projection_size,
-             plan->view_count > 1 ? plan->side_projection_size : 0, plan->scale_mm, lights,
+             plan->view_count > 1 ? plan->side_projection_size : 0, plan->scale_mm, lights, through,
              gpu_mesh_geometry(gm, PROXY_FRONT)->index_count / 3, gpu_mesh_geometry(gm, PROXY_SIDES)->index_count / 3,
              plan->view_count == 1 || s->fallback == LUCENT_FALLBACK_FRONT
                  ? "front"

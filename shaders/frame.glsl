@@ -1,9 +1,11 @@
 // frame.glsl - the per-frame uniform block shared by the projection and scatter shaders.
 // Mirrors struct frame_uniforms in renderer/frame_uniforms.h; std140, all world positions mesh-centred.
-#define MAX_VIEWS 5
+#define MAX_VIEWS 7             // FRAME_MAX_VIEWS
+#define CAMERA_VIEWS 5          // FRAME_CAMERA_VIEWS: front and four sides; then views along lights
 #define MAX_LIGHTS 4
 #define MAX_SAMPLES 64
 #define NEAR_TABLE 17          // FRAME_NEAR_TABLE
+#define THROUGH_SAMPLES 16     // FRAME_THROUGH_SAMPLES
 #define PI 3.14159265358979
 // Texel footprint on the surface grows as 1/cos to the view; past this cosine the estimate is
 // dominated by noise from grazing texels that other views cover better. FRAME_MIN_AREA_COS.
@@ -30,10 +32,19 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     // at 1 / c = 1 + (i / (NEAR_TABLE - 1)) (1 / MIN_AREA_COS - 1).
     vec4 near_rd[NEAR_TABLE];
     vec4 single_albedo;            // xyz: sigma_s / sigma_t (single scattering); w: g
-    vec4 owned;                    // x: the owned images' side is the projection images' >> x (ownership.comp)
+    vec4 owned;                    // x: the owned images' side is the projection images' >> x (ownership.comp);
+                                   // y: views drawn
     // The far annulus (outside the near disc), per channel (c * MAX_SAMPLES + j) or shared (first
     // n): x radius (mm), y weight (1 / (n pdf)), zw unit direction on the projection plane.
     vec4 samples[3 * MAX_SAMPLES];
+    // What the far samples' density is, to combine them with `through` (multiple importance sampling):
+    // samples x density = R_d(r) / through_pdf[c] per channel, or, shared, the sum over the channels
+    // of R_d(r) / (3 rd_total[c]) over through_pdf.w.
+    vec4 through_pdf;
+    // Samples spread evenly over the annulus's area (x radius, y area each, zw direction), which the
+    // light views add where they do not see the point: light through the object arrives from where
+    // the surface profile's samples are sparse, where the far side comes closest (a sphere's rim).
+    vec4 through[THROUGH_SAMPLES];
 } frame;
 
 // Unpolarized Fresnel transmittance entering a medium of relative index eta >= 1.

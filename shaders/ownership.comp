@@ -2,6 +2,8 @@
 // 2^-frame.owned.x the projection images' resolution, their mean flux times the view's weight
 // among the views that see that surface point: a partition of unity over the views, by how squarely
 // each faces the point, so the far pass can gather from every view and count each lit point once.
+// Alpha is the depth times the flux's r + g + b, so that the mip chain's mean of it over the mean
+// flux is the depth where the light is (0 where there is none).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "frame.glsl"
@@ -9,9 +11,18 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 1) uniform sampler2DArray projection_images;
 layout(set = 0, binding = 9) uniform sampler2DArray projection_normals;
 layout(set = 0, binding = 10, rgba32f) uniform writeonly image2DArray owned_images;
-// x: the first view of the dispatch (0: the front view; 1: the four side views, one per z).
+// x: the first view of the dispatch (0: the front view; 1: the side and light views, one per z).
 layout(push_constant) uniform Push { ivec2 first_view; } push;
 #include "views.glsl"
+
+// A light view sees every point its light reaches, squarely where the light falls squarely: it takes
+// the points it sees unless it sees them 5x more obliquely than a camera view. Sharing them by facing
+// alone (a sphere lit from behind) counted its back 1.2x; the camera views keep what the light views
+// do not see, and the light views' grazing texels.
+float share_weight(int k, float facing)
+{
+    return facing_weight(facing) * (k >= CAMERA_VIEWS ? 1e6 : 1.0);
+}
 
 void main()
 {
@@ -33,7 +44,7 @@ void main()
         texel = texelFetch(projection_images, ivec3(t, k), 0);
     }
     if (texel.a < 0.0 || flux == vec3(0.0)) {
-        imageStore(owned_images, ivec3(q, k), vec4(0.0, 0.0, 0.0, texel.a));
+        imageStore(owned_images, ivec3(q, k), vec4(0.0));
         return;
     }
     vec3 n = normalize(texelFetch(projection_normals, ivec3(t, k), 0).xyz);
@@ -41,11 +52,12 @@ void main()
              (float(t.y) + 0.5) * frame.view_dv[k].xyz + texel.a * frame.view_dir[k].xyz;
     // The texel's own view always counts, however grazing: a point no other view sees stays its.
     // Views whose weight could not change the share by a thousandth are not looked up.
-    float own = facing_weight(max(view_score(k, n), 1e-3)), total = own;
-    for (int j = 0; j < MAX_VIEWS; j++) {
-        float w = facing_weight(max(view_score(j, n), 0.0));
+    float own = share_weight(k, max(view_score(k, n), 1e-3)), total = own;
+    for (int j = 0; j < int(frame.owned.y); j++) {
+        float w = share_weight(j, max(view_score(j, n), 0.0));
         if (j != k && w > 1e-3 * own && visible_in(j, p, n))
             total += w;
     }
-    imageStore(owned_images, ivec3(q, k), vec4(flux * (own / total), texel.a));
+    vec3 owned = flux * (own / total);
+    imageStore(owned_images, ivec3(q, k), vec4(owned, (owned.r + owned.g + owned.b) * texel.a));
 }

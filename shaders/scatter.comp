@@ -35,10 +35,12 @@ layout(constant_id = 4) const bool SINGLE_SCATTERING = false;
 layout(constant_id = 5) const int PASS = 0;               // SCATTER_* of pipelines.h
 const bool PASS_FAR = PASS == 1, PASS_FAR_FILTER = PASS == 2;
 layout(constant_id = 6) const int FAR_BLOCK = 4;          // pixels per side of a block (frame_plan.c)
-// With five views and the default fallback the far annulus is gathered from every view, over each
-// view's share of the surface (ownership.comp), so light crosses edges and view boundaries; else from
-// the one or two views the pixel chooses, over the whole projection images.
-const bool OWNED = VIEW_COUNT == 5 && !FRONT_FALLBACK;
+// With five views and the default fallback the far annulus is gathered from every view (and the views
+// along lights whose light enters where no camera view faces the surface: transmission), over each
+// view's share of the surface (ownership.comp), so light crosses edges and view boundaries and
+// through the object; else from the one or two views the pixel chooses, over the whole projection
+// images.
+const bool OWNED = VIEW_COUNT >= CAMERA_VIEWS && !FRONT_FALLBACK;
 // Views whose facing cosines differ by less than this are blended.
 const float VIEW_BLEND = 0.2;
 // A sample reads the mip level whose texels are half the side of the area it stands for: measured
@@ -46,17 +48,17 @@ const float VIEW_BLEND = 0.2;
 const float LOD_BIAS = -0.5;
 #include "views.glsl"
 
-// Best-facing view in which the point is visible; views facing away are never used.
+// Best-facing camera view in which the point is visible; views facing away are never used.
 // Falls back to the front view (0), as the paper does, when no facing view sees the point, or at
 // once when FRONT_FALLBACK is set. `except` is a view not to choose (-1: none); returns -1 when no
 // other facing view sees the point.
 int choose_view(vec3 p, vec3 n, int except)
 {
     uint tried = except >= 0 ? 1u << except : 0u;
-    for (int attempt = 0; attempt < (FRONT_FALLBACK ? 1 : VIEW_COUNT); attempt++) {
+    for (int attempt = 0; attempt < (FRONT_FALLBACK ? 1 : min(VIEW_COUNT, CAMERA_VIEWS)); attempt++) {
         int best = -1;
         float best_score = 0.0;
-        for (int k = 0; k < VIEW_COUNT; k++) {
+        for (int k = 0; k < VIEW_COUNT && k < CAMERA_VIEWS; k++) {
             float score = view_score(k, n);
             if ((tried & (1u << k)) == 0u && score > best_score) {
                 best = k;
@@ -124,9 +126,11 @@ vec3 rd_disc_offset(float radius, float dz)
 // Mean flux density over about `area_texels` texels of view k's projection image around `at`, from
 // the mip chain of the gathered images (bilinear within the nearest level). A far sample stands for
 // its whole ring segment, so it returns that segment's mean instead of one texel (the prefiltering of
-// translucent shadow maps). The owned images have a lower resolution (frame.owned). Reads stay
-// inside the view's corner of its layer, the only part of the side layers' levels that is written.
-vec3 prefiltered_flux(int k, vec2 at, float area_texels)
+// translucent shadow maps). The owned images have a lower resolution (frame.owned), and their alpha
+// is the flux-weighted depth (ownership.comp): alpha / (r + g + b) is the mean depth of the light.
+// Reads stay inside the view's corner of its layer, the only part of the side layers' levels that is
+// written.
+vec4 prefiltered(int k, vec2 at, float area_texels)
 {
     int shift = OWNED ? int(frame.owned.x) : 0;
     float scale = exp2(-float(shift));
@@ -137,8 +141,40 @@ vec3 prefiltered_flux(int k, vec2 at, float area_texels)
     vec3 uvw = vec3(clamp(at * scale * exp2(-float(finer)), vec2(1.0), vec2(max(level_side - 1.0, 1.0))) / layer_side,
                     float(k));
     if (OWNED)
-        return textureLod(owned_images, uvw, lod).rgb;
-    return textureLod(projection_images, uvw, lod).rgb;
+        return textureLod(owned_images, uvw, lod);
+    return textureLod(projection_images, uvw, lod);
+}
+
+vec3 prefiltered_flux(int k, vec2 at, float area_texels)
+{
+    return prefiltered(k, at, area_texels).rgb;
+}
+
+// With light views, light arrives through the object from where the profile's samples are sparse (a
+// sphere lit from behind glows at the front with light from its rim, 15-25 mm away): the light views,
+// and the camera views that see p, add the evenly spread samples of the annulus, each its cell's flux
+// at the cell's flux-weighted depth, weighed against the profile's samples by the balance heuristic
+// (the weight over both sets' densities). Measured on a marble sphere lit from behind: the mean went
+// from 0.20 of the reference's to 0.82.
+vec3 light_through(int k, vec2 center, float depth, mat2 rotate, float mm_per_texel)
+{
+    vec3 sum = vec3(0.0);
+    for (int j = 0; j < THROUGH_SAMPLES; j++) {
+        vec4 s = frame.through[j];
+        vec2 at = center + (rotate * s.zw) * (s.x / mm_per_texel);
+        if (!inside(k, ivec2(floor(at))))
+            continue;
+        vec4 f = prefiltered(k, at, min(s.y, s.x * s.x) / (mm_per_texel * mm_per_texel));
+        float lit = f.r + f.g + f.b;
+        if (lit <= 0.0)
+            continue;
+        float dz = (f.a / lit - depth) * frame.params.y;
+        vec3 rd = dipole_rd3(sqrt(s.x * s.x + dz * dz)), at_r = dipole_rd3(s.x);
+        vec3 profile = SHARED_SAMPLES ? vec3(dot(at_r, 1.0 / (3.0 * frame.rd_total.rgb)) / frame.through_pdf.w)
+                                      : at_r / frame.through_pdf.rgb;
+        sum += f.rgb * rd / (float(SAMPLES) * profile + 1.0 / s.y);
+    }
+    return sum;
 }
 
 // Sums flux x R_d x weight over the far annulus's sample pattern around p in projection image k; each
@@ -149,9 +185,12 @@ vec3 prefiltered_flux(int k, vec2 at, float area_texels)
 // sample along the tangent plane and compared with the image's own surface at p (the plane where that
 // texel is empty but the prefiltered flux is not). Texel quantization, facets and a proxy mesh's
 // offset from the true surface then add no false depth, and kernels narrower than a texel integrate
-// to the right energy. Where view k does not see p (a face gathered across an edge), a sample's depth
-// is its texel's, and empty texels add nothing. Samples within a texel of p read the projection
-// image's own texel, times `share`, the view's share of p's surface (ownership.comp's weight at p).
+// to the right energy. Where view k does not see p (a face across an edge), a sample's depth is its
+// texel's, and empty texels add nothing; with light views (transmission: light through the object), a
+// sample's flux and depth are its whole footprint's (the flux-weighted mean depth of the owned images),
+// so light reaching p from the edge of a footprint is not lost with the texel at its centre. Samples
+// within a texel of p read the projection image's own texel, times `share`, the view's share of p's
+// surface (ownership.comp's weight at p).
 vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px, bool seen, float share)
 {
     vec2 center = texel_coord(k, p);
@@ -165,6 +204,7 @@ vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px, bool seen, float share)
     if (seen && home_depth >= 0.0)
         depth = home_depth + dot(center - (vec2(home) + 0.5), slope);
     float texels_per_mm2 = 1.0 / (mm_per_texel * mm_per_texel);
+    bool through = OWNED && VIEW_COUNT > CAMERA_VIEWS && (seen || k >= CAMERA_VIEWS);
     vec3 sum = vec3(0.0);
     // The near disc is p's own light (the compose pass) only in the views that see p; across an edge
     // it holds another face, taken as a plane lit like the texel p lands on, at that texel's depth.
@@ -177,24 +217,38 @@ vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px, bool seen, float share)
             ivec2 t = ivec2(floor(at));
             if (!inside(k, t))
                 continue;
-            vec4 texel = texelFetch(projection_images, ivec3(t, k), 0);
-            if (!seen && texel.a < 0.0)
-                continue;
             // A footprint no wider than the sample's distance from p: the inner samples' areas are
             // as wide as their rings, and a footprint that size reached back to p's own light
             // (side-lit sphere 2.5% bright, 1.2% with this bound).
-            vec3 flux = s.x < mm_per_texel ? texel.rgb * share
-                                           : prefiltered_flux(k, at, min(s.y, s.x * s.x) * texels_per_mm2);
-            float step = seen && (s.x < mm_per_texel || texel.a < 0.0) ? dot(at - center, slope)
-                                                                        : texel.a + dot(at - (vec2(t) + 0.5), slope) - depth;
+            float footprint = min(s.y, s.x * s.x) * texels_per_mm2;
+            vec3 flux;
+            float step;
+            if (OWNED && !seen && VIEW_COUNT > CAMERA_VIEWS) {
+                vec4 f = prefiltered(k, at, footprint);
+                float weight = f.r + f.g + f.b;
+                if (weight <= 0.0)
+                    continue;
+                flux = f.rgb;
+                step = f.a / weight - depth;
+            } else {
+                vec4 texel = texelFetch(projection_images, ivec3(t, k), 0);
+                if (!seen && texel.a < 0.0)
+                    continue;
+                flux = s.x < mm_per_texel ? texel.rgb * share : prefiltered_flux(k, at, footprint);
+                step = seen && (s.x < mm_per_texel || texel.a < 0.0) ? dot(at - center, slope)
+                                                                     : texel.a + dot(at - (vec2(t) + 0.5), slope) - depth;
+            }
             float dz = step * frame.params.y;
             float r = sqrt(s.x * s.x + dz * dz);
+            float weight = through ? 1.0 / (1.0 / s.y + 1.0 / frame.through[0].y) : s.y;
             if (SHARED_SAMPLES)
-                sum += flux * dipole_rd3(r) * s.y;
+                sum += flux * dipole_rd3(r) * weight;
             else
-                sum[c] += flux[c] * dipole_rd(c, r) * s.y;
+                sum[c] += flux[c] * dipole_rd(c, r) * weight;
         }
     }
+    if (through)
+        sum += light_through(k, center, depth, rotate, mm_per_texel);
     return sum;
 }
 
