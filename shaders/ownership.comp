@@ -15,13 +15,15 @@ layout(set = 0, binding = 10, rgba32f) uniform writeonly image2DArray owned_imag
 layout(push_constant) uniform Push { ivec2 first_view; } push;
 #include "views.glsl"
 
-// A light view sees every point its light reaches, squarely where the light falls squarely: it takes
-// the points it sees unless it sees them 5x more obliquely than a camera view. Sharing them by facing
-// alone (a sphere lit from behind) counted its back 1.2x; the camera views keep what the light views
-// do not see, and the light views' grazing texels.
-float share_weight(int k, float facing)
+// A light view sees every point its light reaches, squarely where the light falls squarely: on surface
+// facing away from the camera, which the camera views see obliquely if at all, it takes the points it
+// sees unless it sees them 5x more obliquely than a camera view. Sharing those by facing alone (a
+// sphere lit from behind) counted its back 1.2x; taking the camera's side too made a rim-lit sphere's
+// error twice what it was without light views.
+float share_weight(int k, float facing, vec3 n)
 {
-    return facing_weight(facing) * (k >= CAMERA_VIEWS ? 1e6 : 1.0);
+    bool behind = dot(n, frame.view_dir[0].xyz) > 0.0;
+    return facing_weight(facing) * (k >= CAMERA_VIEWS && behind ? 1e6 : 1.0);
 }
 
 void main()
@@ -52,9 +54,9 @@ void main()
              (float(t.y) + 0.5) * frame.view_dv[k].xyz + texel.a * frame.view_dir[k].xyz;
     // The texel's own view always counts, however grazing: a point no other view sees stays its.
     // Views whose weight could not change the share by a thousandth are not looked up.
-    float own = share_weight(k, max(view_score(k, n), 1e-3)), total = own;
+    float own = share_weight(k, max(view_score(k, n), 1e-3), n), total = own;
     for (int j = 0; j < int(frame.owned.y); j++) {
-        float w = share_weight(j, max(view_score(j, n), 0.0));
+        float w = share_weight(j, max(view_score(j, n), 0.0), n);
         if (j != k && w > 1e-3 * own && visible_in(j, p, n))
             total += w;
     }

@@ -4,6 +4,7 @@
  * R_trunc); shared sampling is a quadrature of R_d,c / p_mix over the mixture's strata. Each tolerance
  * is about twice the worst error measured (in the comment beside it). */
 #include "dipole.h"
+#include "flat_cube.h"
 #include "test_support.h"
 
 #include <math.h>
@@ -147,13 +148,7 @@ static void check_slab_transmission(lucent_renderer *r, const char *preset, doub
 {
     const double half_mm = 25.0, thick_mm = 3.0;
     char slab[64], json[700];
-    test_write_obj(slab, sizeof slab, "slab",
-                   "v -0.5 -0.5 -0.03\nv 0.5 -0.5 -0.03\nv 0.5 0.5 -0.03\nv -0.5 0.5 -0.03\n"
-                   "v -0.5 -0.5 0.03\nv 0.5 -0.5 0.03\nv 0.5 0.5 0.03\nv -0.5 0.5 0.03\n"
-                   "vn 1 0 0\nvn -1 0 0\nvn 0 1 0\nvn 0 -1 0\nvn 0 0 1\nvn 0 0 -1\n"
-                   "f 2//1 3//1 7//1\nf 2//1 7//1 6//1\nf 1//2 5//2 8//2\nf 1//2 8//2 4//2\n"
-                   "f 4//3 8//3 7//3\nf 4//3 7//3 3//3\nf 1//4 2//4 6//4\nf 1//4 6//4 5//4\n"
-                   "f 5//5 6//5 7//5\nf 5//5 7//5 8//5\nf 1//6 4//6 3//6\nf 1//6 3//6 2//6\n");
+    test_write_obj(slab, sizeof slab, "slab", flat_slab_obj);
     snprintf(json, sizeof json,
              "{\"mesh\":{\"file\":\"%s\"},\"scale_mm\":50,\"material\":{\"preset\":\"%s\"},"
              "\"lights\":[{\"direction\":[0,0,1],\"intensity\":1}],\"width\":129,\"height\":129,"

@@ -32,19 +32,23 @@ struct mode {
  * the edges between them. Every light below strikes exactly one face head-on (front: +Z, side: +X,
  * back: the hidden -Z) and leaves the others unlit, so what those show is light diffused around an
  * edge from a neighbouring face, which an image-space method finds only by crossing views. */
-enum { MESH_SPHERE, MESH_TORUS, MESH_PROTRUSION, MESH_BUNNY, MESH_CUBE, MESH_COUNT };
-enum { LIGHT_FRONT, LIGHT_SIDE, LIGHT_BACK };
+/* The slab, 50 x 50 x 3 mm and seen face-on, shows light through a thin part under the back light, and
+ * the rim light comes from 130 degrees off the view direction (issue 11's transmission cases). */
+enum { MESH_SPHERE, MESH_TORUS, MESH_PROTRUSION, MESH_BUNNY, MESH_CUBE, MESH_SLAB, MESH_COUNT };
+enum { LIGHT_FRONT, LIGHT_SIDE, LIGHT_BACK, LIGHT_RIM };
 static const struct mesh_case meshes[] = {
     [MESH_SPHERE] = {"sphere", "{\"builtin\":\"sphere\"}", NULL},
     [MESH_TORUS] = {"torus", "{\"builtin\":\"torus\"}", NULL},
     [MESH_PROTRUSION] = {"protrusion", "{\"builtin\":\"protrusion\"}", NULL},
     [MESH_BUNNY] = {"bunny", NULL, NULL},
     [MESH_CUBE] = {"cube", NULL, "\"camera\":{\"position\":[1.6,1.2,2.0],\"target\":[0,0,0]},"},
+    [MESH_SLAB] = {"slab", NULL, "\"scale_mm\":50,"},
 };
 
 static const struct light_case lights[] = {[LIGHT_FRONT] = {"front", "[0,0,-1]"},
                                            [LIGHT_SIDE] = {"side", "[-1,0,0]"},
-                                           [LIGHT_BACK] = {"back", "[0,0,1]"}};
+                                           [LIGHT_BACK] = {"back", "[0,0,1]"},
+                                           [LIGHT_RIM] = {"rim", "[-0.766,0,0.643]"}};
 static const char *const materials[] = {"marble", "skin1", "skimmilk", "ketchup"};
 static const int sizes[] = {256, 512};
 static const struct mode modes[] = {
@@ -69,8 +73,8 @@ enum { T_TOTAL, T_SHADOW, T_PROJECTION, T_GBUFFER, T_SCATTER, T_READBACK, T_COUN
 
 struct options {
     const char *prefix;
-    const char *mesh_file[MESH_COUNT];  /* the meshes given as files: the bunny, and the cube written here */
-    char cube_path[4096];
+    const char *mesh_file[MESH_COUNT];  /* the meshes given as files: the bunny, and the cube and slab written here */
+    char cube_path[4096], slab_path[4096];
     int frames, size_count;
 };
 
@@ -122,7 +126,7 @@ static int usage(void)
 {
     fprintf(stderr, "usage: bench_trade [--quick] [--frames F] BUNNY.obj OUT_PREFIX\n"
                     "  writes OUT_PREFIX.csv, OUT_PREFIX.md, OUT_PREFIX_summary.tsv (for plot_trade.sh) and\n"
-                    "  OUT_PREFIX_cube.obj (the cube it renders);\n"
+                    "  OUT_PREFIX_cube.obj and OUT_PREFIX_slab.obj (the meshes it writes and renders);\n"
                     "  --quick: 256x256 only (default 256 and 512); F: timed warm frames per mode (default 5)\n");
     return 2;
 }
@@ -419,7 +423,8 @@ static void write_report(const struct options *o, const struct result *res, cons
                   "||hp(test) - hp(ref)|| / ||ref||, hp = x - box3x3(x)), the low-frequency error (relative L2 "
                   "of both images blurred by a 5x5 box) and the mean ratio (test's mean radiance over the "
                   "reference's); worst case; on the Pareto front of (median ms, median rel L2). The cube is "
-                  "seen from above its front-right corner (+X, +Y, +Z faces), each light striking one face.\n",
+                  "seen from above its front-right corner (+X, +Y, +Z faces), each light striking one face; "
+                  "the slab (50 x 50 x 3 mm) face-on; the rim light 130 degrees from the view direction.\n",
          CASES_PER_SIZE, (int)N(meshes), names, (int)N(lights), (int)N(materials), o->frames);
     fprintf(out->tsv, "size\tmode\tms\trel_l2\tband_rel_l2\tpareto\n");
     for (int z = 0; z < o->size_count; z++) {
@@ -479,16 +484,15 @@ static int run(lucent_renderer *r, const struct options *o, struct result *res, 
     return 0;
 }
 
-/* Writes the cube's OBJ beside the outputs (kept: it is the mesh the report's cube rows rendered). */
-static int write_cube_obj(struct options *o)
+/* Writes an OBJ beside the outputs as PREFIX_NAME.obj (kept: it is the mesh the report's rows rendered). */
+static int write_obj(const char *prefix, const char *name, const char *text, char *path, size_t cap)
 {
-    snprintf(o->cube_path, sizeof o->cube_path, "%s_cube.obj", o->prefix);
-    FILE *f = fopen(o->cube_path, "w");
-    if (!f || fputs(flat_cube_obj, f) == EOF || fclose(f) != 0) {
-        perror(o->cube_path);
+    snprintf(path, cap, "%s_%s.obj", prefix, name);
+    FILE *f = fopen(path, "w");
+    if (!f || fputs(text, f) == EOF || fclose(f) != 0) {
+        perror(path);
         return -1;
     }
-    o->mesh_file[MESH_CUBE] = o->cube_path;
     return 0;
 }
 
@@ -508,7 +512,12 @@ int main(int argc, char **argv)
     struct options o;
     if (parse_options(argc, argv, &o) != 0)
         return usage();
-    if (write_cube_obj(&o) != 0 || check_paths(&o) != 0)
+    if (write_obj(o.prefix, "cube", flat_cube_obj, o.cube_path, sizeof o.cube_path) != 0 ||
+        write_obj(o.prefix, "slab", flat_slab_obj, o.slab_path, sizeof o.slab_path) != 0)
+        return 2;
+    o.mesh_file[MESH_CUBE] = o.cube_path;
+    o.mesh_file[MESH_SLAB] = o.slab_path;
+    if (check_paths(&o) != 0)
         return 2;
     struct outputs out = {0};
     struct result *res = calloc((size_t)o.size_count * CASES_PER_SIZE * MODES, sizeof *res);
