@@ -322,11 +322,11 @@ static void shared_samples(const struct dipole d[3], double r_min, double r_max,
 
 /* The light views' evenly spread samples over the annulus r_min..r_max (equal areas, golden-angle
  * turns), and the far samples' densities to weigh both sets against each other (balance heuristic). */
-static void through_samples(const struct dipole d[3], double r_min, double r_max, struct frame_uniforms *u)
+static void through_samples(const struct dipole d[3], double r_min, double r_max, int n, struct frame_uniforms *u)
 {
-    double area = PI * (r_max * r_max - r_min * r_min) / FRAME_THROUGH_SAMPLES, span_mix = 0.0;
-    for (int j = 0; j < FRAME_THROUGH_SAMPLES; j++) {
-        double r = sqrt(r_min * r_min + (r_max * r_max - r_min * r_min) * (j + 0.5) / FRAME_THROUGH_SAMPLES);
+    double area = PI * (r_max * r_max - r_min * r_min) / n, span_mix = 0.0;
+    for (int j = 0; j < n; j++) {
+        double r = sqrt(r_min * r_min + (r_max * r_max - r_min * r_min) * (j + 0.5) / n);
         set_sample(u->through[j], r, area, j * GOLDEN_ANGLE + 1.0);
     }
     for (int c = 0; c < 3; c++) {
@@ -395,13 +395,18 @@ static void plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
         shared_samples(d, r_near, r_max, plan->scatter_samples, u);
     else
         per_channel_samples(d, r_near, r_max, plan->scatter_samples, u);
-    through_samples(d, r_near, r_max, u);
+    through_samples(d, r_near, r_max, frame_through_samples(plan->far_block), u);
 }
 
 int frame_far_block(int width, int height)
 {
     long pixels = (long)width * height;
     return pixels > 320 * 320 ? 4 : pixels > 128 * 128 ? 2 : 1;
+}
+
+int frame_through_samples(int far_block)
+{
+    return far_block > 1 ? FRAME_THROUGH_SAMPLES / 2 : FRAME_THROUGH_SAMPLES;
 }
 
 int frame_far_views(const lucent_scene *scene, const struct frame_plan *plan)

@@ -10,7 +10,8 @@
 #define FRAME_CAMERA_VIEWS 5
 #define FRAME_LIGHT_VIEWS 2
 #define FRAME_MAX_VIEWS (FRAME_CAMERA_VIEWS + FRAME_LIGHT_VIEWS)
-/* THROUGH_SAMPLES in frame.glsl: the evenly spread samples of the light views (transmission). */
+/* THROUGH_SAMPLES in frame.glsl: the evenly spread samples of the light views (transmission), half
+ * of them where the far part is integrated per block and filtered (frame_through_samples()). */
 #define FRAME_THROUGH_SAMPLES 16
 /* MIN_AREA_COS in frame.glsl: the smallest cosine to a view a texel's area is divided by. */
 #define FRAME_MIN_AREA_COS 0.1

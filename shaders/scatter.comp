@@ -159,7 +159,7 @@ vec3 prefiltered_flux(int k, vec2 at, float area_texels)
 vec3 light_through(int k, vec2 center, float depth, mat2 rotate, float mm_per_texel)
 {
     vec3 sum = vec3(0.0);
-    for (int j = 0; j < THROUGH_SAMPLES; j++) {
+    for (int j = 0; j < (FAR_BLOCK > 1 ? THROUGH_SAMPLES / 2 : THROUGH_SAMPLES); j++) {   // frame_through_samples()
         vec4 s = frame.through[j];
         vec2 at = center + (rotate * s.zw) * (s.x / mm_per_texel);
         if (!inside(k, ivec2(floor(at))))
