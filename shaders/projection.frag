@@ -60,6 +60,11 @@ void main()
     vec3 dir = frame.view_dir[view].xyz;
     float area = 1.0 / max(dot(n, -dir), MIN_AREA_COS);
     float depth = dot(v_position - frame.view_origin[view].xyz, dir);
+    // A light view that sees an open sheet's back sees the points the camera sees, from behind: lit
+    // there, their light would cross no thickness at all. The reference lights the side the normals
+    // give, so a sheet lit from behind stays dark in both (closed meshes show no back faces).
+    if (!gl_FrontFacing && view >= CAMERA_VIEWS)
+        entering = vec3(0.0);
     out_flux_depth = vec4(entering * area, depth);
     out_normal = vec4(n, 0.0);
 }

@@ -47,21 +47,40 @@ static void check_shadow_rule(lucent_renderer *r, const char *mesh, const char *
 
 /* ---- transmission: which lights get a light view, as reported ---- */
 
-/* views: what stats.views must be (5 camera views plus the light views); reason: a phrase of
- * modelled.transmission. */
+/* mesh: a mesh object; views: what stats.views must be (5 camera views plus the light views); reason:
+ * a phrase of modelled.transmission. */
 static void check_light_views(lucent_renderer *r, const char *mesh, const char *method, const char *lights, int views,
                               const char *reason)
 {
     char json[700];
-    snprintf(json, sizeof json, "{\"mesh\":{\"builtin\":\"%s\"},\"method\":\"%s\",\"lights\":[%s],\"width\":32,"
-             "\"height\":32}", mesh, method, lights);
+    snprintf(json, sizeof json, "{\"mesh\":%s,\"method\":\"%s\",\"lights\":[%s],\"width\":32,\"height\":32}", mesh,
+             method, lights);
     lucent_image img;
     lucent_stats stats;
     test_render(r, json, &img, &stats);
     const char *through = strstr(stats.modelled, "\"transmission\":");
     int said = through && strstr(through, reason) && strstr(through, reason) < strstr(through, "]");
-    test_check(stats.views == views && said, "%-10s %-6s lights %s: %d views (expected %d), reported %.110s", mesh,
+    test_check(stats.views == views && said, "%.40s %-6s lights %s: %d views (expected %d), reported %.110s", mesh,
                method, lights, stats.views, views, through ? through : "(no transmission key)");
+    lucent_image_free(&img);
+}
+
+/* An open sheet (the square, normal towards the camera) lit from behind: the reference lights the side
+ * its normals give, so it is black; a light view sees the sheet's back, which it must not light. */
+static void check_sheet_from_behind(lucent_renderer *r, const char *sheet)
+{
+    char json[400];
+    snprintf(json, sizeof json, "{\"mesh\":%s,\"lights\":[{\"direction\":[0,0,1]}],\"width\":32,\"height\":32}",
+             sheet);
+    lucent_image img;
+    lucent_stats stats;
+    test_render(r, json, &img, &stats);
+    float peak = 0.0f;
+    for (size_t i = 0; i < (size_t)img.width * img.height; i++)
+        for (int c = 0; c < 3; c++)
+            peak = fmaxf(peak, img.rgba[i * 4 + c]);
+    test_check(peak == 0.0f && stats.views == 6, "open sheet lit from behind, five: peak radiance %g (expected 0), %d views",
+               peak, stats.views);
     lucent_image_free(&img);
 }
 
@@ -324,15 +343,19 @@ int main(int argc, char **argv)
     snprintf(lights, sizeof lights, "%s,{\"direction\":[0,-1,0],\"intensity\":0},%s", light, light);
     check_shadow_rule(r, "torus", lights, 2, "skipped: light is black");
     const char *back = "{\"direction\":[0,0,1]}", *rim = "{\"direction\":[-0.766,0,0.643]}";
-    check_light_views(r, "sphere", "five", back, 6, "\"light view\"");
-    check_light_views(r, "sphere", "five", rim, 6, "\"light view\"");
-    check_light_views(r, "sphere", "five", "{\"direction\":[-1,0,0]}", 5, "the camera's views see where its light enters");
-    check_light_views(r, "sphere", "five", "{\"type\":\"point\",\"position\":[0,0,-3]}", 6, "\"light view\"");
-    check_light_views(r, "sphere", "five", "{\"type\":\"point\",\"position\":[0,0,-0.5]}", 5,
+    const char *sphere = "{\"builtin\":\"sphere\"}";
+    char sheet[200];
+    snprintf(sheet, sizeof sheet, "{\"file\":\"%s\"}", square);
+    check_light_views(r, sphere, "five", back, 6, "\"light view\"");
+    check_light_views(r, sphere, "five", rim, 6, "\"light view\"");
+    check_light_views(r, sphere, "five", "{\"direction\":[-1,0,0]}", 5, "the camera's views see where its light enters");
+    check_light_views(r, sphere, "five", "{\"type\":\"point\",\"position\":[0,0,-3]}", 6, "\"light view\"");
+    check_light_views(r, sphere, "five", "{\"type\":\"point\",\"position\":[0,0,-0.5]}", 5,
                       "a point light within the object's bounds");
-    check_light_views(r, "sphere", "single", back, 1, "only the gathered five-view integration");
+    check_light_views(r, sphere, "single", back, 1, "only the gathered five-view integration");
     snprintf(lights, sizeof lights, "%s,{\"direction\":[0.3,0,1]},{\"direction\":[0,0.2,1],\"intensity\":0.5}", back);
-    check_light_views(r, "sphere", "five", lights, 7, "went to lights with more light entering unseen");
+    check_light_views(r, sphere, "five", lights, 7, "went to lights with more light entering unseen");
+    check_sheet_from_behind(r, sheet);
     check_self_shadow(r, shelf);
     check_point_falloff(r, square);
     check_auto_choices(r, square);
