@@ -83,7 +83,13 @@ lucent_status auto_plan_choose(const lucent_scene *scene, const struct lucent_me
     s->sampling = per_channel ? LUCENT_SAMPLING_PER_CHANNEL : LUCENT_SAMPLING_SHARED;
     /* Where the front image holds all the light there is to diffuse, one view integrates it as well as
      * five (measured: better, with the samples the side views would cost). */
-    out->hidden_light_share = frame_light_share(scene, mesh, cam.forward, 0.0, -1, NULL);
+    double hidden[LUCENT_MAX_LIGHTS], entering[LUCENT_MAX_LIGHTS], hidden_sum = 0.0, entering_sum = 0.0;
+    frame_light_shares(scene, mesh, cam.forward, 0.0, hidden, entering);
+    for (int l = 0; l < scene->light_count; l++) {
+        hidden_sum += hidden[l];
+        entering_sum += entering[l];
+    }
+    out->hidden_light_share = entering_sum > 0.0 ? hidden_sum / entering_sum : 0.0;
     int sides = out->hidden_light_share > AUTO_HIDDEN_LIGHT_SHARE;
     s->method = sides ? LUCENT_METHOD_FIVE : LUCENT_METHOD_SINGLE;
     snprintf(out->decisions, sizeof out->decisions,

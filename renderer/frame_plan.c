@@ -117,10 +117,11 @@ static void plan_views(const lucent_scene *s, const struct view_frame *cam, doub
                   &plan->uniforms);
 }
 
-double frame_light_share(const lucent_scene *s, const struct lucent_mesh *m, const double forward[3],
-                         double min_away, int light, double *entering)
+void frame_light_shares(const lucent_scene *s, const struct lucent_mesh *m, const double forward[3], double min_away,
+                        double hidden[LUCENT_MAX_LIGHTS], double entering[LUCENT_MAX_LIGHTS])
 {
-    double hidden = 0.0, total = 0.0;
+    for (int l = 0; l < s->light_count; l++)
+        hidden[l] = entering[l] = 0.0;
     for (uint32_t t = 0; t < m->triangle_count; t++) {
         const uint32_t *i = &m->indices[(size_t)t * 3];
         double v[3][3], e1[3], e2[3], n[3], centroid[3];
@@ -136,7 +137,7 @@ double frame_light_share(const lucent_scene *s, const struct lucent_mesh *m, con
         double twice_area = v3_length(n);
         if (twice_area == 0.0)
             continue;
-        for (int l = light < 0 ? 0 : light; l < (light < 0 ? s->light_count : light + 1); l++) {
+        for (int l = 0; l < s->light_count; l++) {
             const lucent_light *li = &s->lights[l];
             double to_light[3], falloff = 1.0;
             for (int a = 0; a < 3; a++)
@@ -153,13 +154,10 @@ double frame_light_share(const lucent_scene *s, const struct lucent_mesh *m, con
             flux *= li->intensity * (li->color[0] + li->color[1] + li->color[2]);
             if (flux <= 0.0)
                 continue;
-            total += flux;
-            hidden += away > min_away ? flux : 0.0;
+            entering[l] += flux;
+            hidden[l] += away > min_away ? flux : 0.0;
         }
     }
-    if (entering)
-        *entering = total;
-    return total > 0.0 ? hidden / total : 0.0;
 }
 
 /* Views along the lights whose light enters where no camera view faces the surface well (transmission):
@@ -170,23 +168,22 @@ double frame_light_share(const lucent_scene *s, const struct lucent_mesh *m, con
 static void plan_light_views(const lucent_scene *s, const struct lucent_mesh *mesh, const struct view_frame *cam,
                              double radius, struct frame_plan *plan)
 {
-    double hidden[LUCENT_MAX_LIGHTS] = {0};
+    double hidden[LUCENT_MAX_LIGHTS] = {0}, entering[LUCENT_MAX_LIGHTS] = {0}, pos[LUCENT_MAX_LIGHTS][3];
+    int gathered = plan->view_count == FRAME_CAMERA_VIEWS && s->fallback != LUCENT_FALLBACK_FRONT &&
+                   plan->scatter_samples;
+    if (gathered)
+        frame_light_shares(s, mesh, cam->forward, FRAME_BACK_COS, hidden, entering);
     for (int l = 0; l < s->light_count; l++) {
-        const lucent_light *li = &s->lights[l];
-        double pos[3], entering;
-        centred(li->position, mesh, pos);
-        plan->transmission_reason[l] = "the camera's views see where its light enters";
-        if (plan->view_count != FRAME_CAMERA_VIEWS || s->fallback == LUCENT_FALLBACK_FRONT || !plan->scatter_samples) {
-            plan->transmission_reason[l] = "none: only the gathered five-view integration takes light views";
-            continue;
-        }
-        if (li->type == LUCENT_LIGHT_POINT && v3_length(pos) <= radius) {
-            plan->transmission_reason[l] = "none: a point light within the object's bounds";
-            continue;
-        }
-        double share = frame_light_share(s, mesh, cam->forward, FRAME_BACK_COS, l, &entering);
-        if (share > FRAME_LIGHT_VIEW_SHARE)
-            hidden[l] = share * entering;
+        centred(s->lights[l].position, mesh, pos[l]);
+        const char *reason = "the camera's views see where its light enters";
+        if (!gathered)
+            reason = "none: only the gathered five-view integration takes light views";
+        else if (s->lights[l].type == LUCENT_LIGHT_POINT && v3_length(pos[l]) <= radius)
+            reason = "none: a point light within the object's bounds";
+        else if (hidden[l] > FRAME_LIGHT_VIEW_SHARE * entering[l])
+            continue;   /* a candidate: keeps hidden[l]; chosen or not, its reason is set below */
+        plan->transmission_reason[l] = reason;
+        hidden[l] = 0.0;
     }
     double up_cam[3] = {-cam->down[0], -cam->down[1], -cam->down[2]};
     for (int v = 0; v < FRAME_LIGHT_VIEWS; v++) {
@@ -198,10 +195,9 @@ static void plan_light_views(const lucent_scene *s, const struct lucent_mesh *me
             break;
         hidden[best] = 0.0;
         const lucent_light *li = &s->lights[best];
-        double dir[3], pos[3];
-        centred(li->position, mesh, pos);
+        double dir[3];
         for (int a = 0; a < 3; a++)
-            dir[a] = li->type == LUCENT_LIGHT_POINT ? -pos[a] : li->direction[a];
+            dir[a] = li->type == LUCENT_LIGHT_POINT ? -pos[best][a] : li->direction[a];
         v3_normalize(dir);
         const double *up = fabs(v3_dot(dir, up_cam)) < 0.9 ? up_cam : cam->forward;
         plan_view(plan->view_count, dir, up, plan->side_projection_size, radius, &plan->uniforms);

@@ -50,12 +50,12 @@ struct frame_plan {
  * camera view faces it by more than cos 60 degrees. */
 #define FRAME_BACK_COS 0.866
 #define FRAME_LIGHT_VIEW_SHARE 0.10
-/* Share of light `light`'s entering light (every light's when `light` < 0; area x cosine x irradiance,
- * unshadowed) entering on surface whose normal's cosine to `forward` (the camera's) exceeds `min_away`
- * (0: any surface facing away from the camera); *entering (may be NULL): the total. An open mesh is lit
- * on the side facing the light. */
-double frame_light_share(const lucent_scene *scene, const struct lucent_mesh *mesh, const double forward[3],
-                         double min_away, int light, double *entering);
+/* The light each light brings into the surface (area x cosine x irradiance, unshadowed), in one pass
+ * over the triangles: entering[l] in all, hidden[l] on surface whose normal's cosine to `forward` (the
+ * camera's) exceeds `min_away` (0: any surface facing away from the camera). An open mesh is lit on the
+ * side facing the light. */
+void frame_light_shares(const lucent_scene *scene, const struct lucent_mesh *mesh, const double forward[3],
+                        double min_away, double hidden[LUCENT_MAX_LIGHTS], double entering[LUCENT_MAX_LIGHTS]);
 
 /* The evenly spread samples light views add (FRAME_THROUGH_SAMPLES, half where the far part is
  * integrated per block and then filtered). Measured at 256^2, back light: 8 instead of 16 took the frame

@@ -41,6 +41,8 @@ layout(constant_id = 6) const int FAR_BLOCK = 4;          // pixels per side of 
 // through the object; else from the one or two views the pixel chooses, over the whole projection
 // images.
 const bool OWNED = VIEW_COUNT >= CAMERA_VIEWS && !FRONT_FALLBACK;
+// Light views are planned (frame_plan.c): light can reach p through the object.
+const bool TRANSMISSION = OWNED && VIEW_COUNT > CAMERA_VIEWS;
 // Views whose facing cosines differ by less than this are blended.
 const float VIEW_BLEND = 0.2;
 // A sample reads the mip level whose texels are half the side of the area it stands for: measured
@@ -150,6 +152,17 @@ vec3 prefiltered_flux(int k, vec2 at, float area_texels)
     return prefiltered(k, at, area_texels).rgb;
 }
 
+// The owned flux over a footprint and how far its light lies behind `depth` (its flux-weighted mean
+// depth minus `depth`, in the view's scene units); false where the footprint holds no light.
+bool footprint_light(int k, vec2 at, float area_texels, float depth, out vec3 flux, out float step)
+{
+    vec4 f = prefiltered(k, at, area_texels);
+    float lit = f.r + f.g + f.b;
+    flux = f.rgb;
+    step = lit > 0.0 ? f.a / lit - depth : 0.0;
+    return lit > 0.0;
+}
+
 // With light views, light arrives through the object from where the profile's samples are sparse (a
 // sphere lit from behind glows at the front with light from its rim, 15-25 mm away): the light views,
 // and the camera views that see p, add the evenly spread samples of the annulus, each its cell's flux
@@ -164,15 +177,15 @@ vec3 light_through(int k, vec2 center, float depth, mat2 rotate, float mm_per_te
         vec2 at = center + (rotate * s.zw) * (s.x / mm_per_texel);
         if (!inside(k, ivec2(floor(at))))
             continue;
-        vec4 f = prefiltered(k, at, min(s.y, s.x * s.x) / (mm_per_texel * mm_per_texel));
-        float lit = f.r + f.g + f.b;
-        if (lit <= 0.0)
+        vec3 flux;
+        float step;
+        if (!footprint_light(k, at, min(s.y, s.x * s.x) / (mm_per_texel * mm_per_texel), depth, flux, step))
             continue;
-        float dz = (f.a / lit - depth) * frame.params.y;
+        float dz = step * frame.params.y;
         vec3 rd = dipole_rd3(sqrt(s.x * s.x + dz * dz)), at_r = dipole_rd3(s.x);
         vec3 profile = SHARED_SAMPLES ? vec3(dot(at_r, 1.0 / (3.0 * frame.rd_total.rgb)) / frame.through_pdf.w)
                                       : at_r / frame.through_pdf.rgb;
-        sum += f.rgb * rd / (float(SAMPLES) * profile + 1.0 / s.y);
+        sum += flux * rd / (float(SAMPLES) * profile + 1.0 / s.y);
     }
     return sum;
 }
@@ -204,7 +217,7 @@ vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px, bool seen, float share)
     if (seen && home_depth >= 0.0)
         depth = home_depth + dot(center - (vec2(home) + 0.5), slope);
     float texels_per_mm2 = 1.0 / (mm_per_texel * mm_per_texel);
-    bool through = OWNED && VIEW_COUNT > CAMERA_VIEWS && (seen || k >= CAMERA_VIEWS);
+    bool through = TRANSMISSION && (seen || k >= CAMERA_VIEWS);
     vec3 sum = vec3(0.0);
     // The near disc is p's own light (the compose pass) only in the views that see p; across an edge
     // it holds another face, taken as a plane lit like the texel p lands on, at that texel's depth.
@@ -223,13 +236,9 @@ vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px, bool seen, float share)
             float footprint = min(s.y, s.x * s.x) * texels_per_mm2;
             vec3 flux;
             float step;
-            if (OWNED && !seen && VIEW_COUNT > CAMERA_VIEWS) {
-                vec4 f = prefiltered(k, at, footprint);
-                float weight = f.r + f.g + f.b;
-                if (weight <= 0.0)
+            if (TRANSMISSION && !seen) {
+                if (!footprint_light(k, at, footprint, depth, flux, step))
                     continue;
-                flux = f.rgb;
-                step = f.a / weight - depth;
             } else {
                 vec4 texel = texelFetch(projection_images, ivec3(t, k), 0);
                 if (!seen && texel.a < 0.0)

@@ -28,6 +28,15 @@ static const float *pixel(const lucent_image *img, int x, int y)
     return &img->rgba[((size_t)y * img->width + x) * 4];
 }
 
+/* The array `key` of modelled (e.g. "\"shadows\":") names `phrase` in one of its entries; *at: the
+ * array, for the message (NULL when modelled has no such key). */
+static int reports(const char *modelled, const char *key, const char *phrase, const char **at)
+{
+    const char *array = strstr(modelled, key), *found = array ? strstr(array, phrase) : NULL;
+    *at = array;
+    return found && found < strstr(array, "]");
+}
+
 /* ---- shadow maps: which lights get one, as reported ---- */
 
 static void check_shadow_rule(lucent_renderer *r, const char *mesh, const char *lights, int maps, const char *reason)
@@ -38,8 +47,8 @@ static void check_shadow_rule(lucent_renderer *r, const char *mesh, const char *
     lucent_image img;
     lucent_stats stats;
     test_render(r, json, &img, &stats);
-    const char *shadows = strstr(stats.modelled, "\"shadows\":");
-    int said = shadows && strstr(shadows, reason) && strstr(shadows, reason) < strstr(shadows, "]");
+    const char *shadows;
+    int said = reports(stats.modelled, "\"shadows\":", reason, &shadows);
     test_check(stats.shadow_maps == maps && said, "%-10s lights %s: %d shadow maps (expected %d), reported %.90s",
                mesh, lights, stats.shadow_maps, maps, shadows ? shadows : "(no shadows key)");
     lucent_image_free(&img);
@@ -58,8 +67,8 @@ static void check_light_views(lucent_renderer *r, const char *mesh, const char *
     lucent_image img;
     lucent_stats stats;
     test_render(r, json, &img, &stats);
-    const char *through = strstr(stats.modelled, "\"transmission\":");
-    int said = through && strstr(through, reason) && strstr(through, reason) < strstr(through, "]");
+    const char *through;
+    int said = reports(stats.modelled, "\"transmission\":", reason, &through);
     test_check(stats.views == views && said, "%.40s %-6s lights %s: %d views (expected %d), reported %.110s", mesh,
                method, lights, stats.views, views, through ? through : "(no transmission key)");
     lucent_image_free(&img);
