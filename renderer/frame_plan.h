@@ -10,6 +10,10 @@
 
 /* Margin around the bounding sphere so silhouettes never touch an image border. */
 #define FRAME_FIT_MARGIN 1.02
+/* Bounds of the owned images' depth weights' exponent over a view's depth range (+-1 radius): below
+ * the low one the logarithm that undoes them loses precision, above the high one float overflows. */
+#define FRAME_DEPTH_RATE_MIN 0.01
+#define FRAME_DEPTH_RATE_MAX 30.0
 /* The scatter pass takes the irradiance as the point's own over a disc around each pixel (the near
  * part, per pixel) and samples the annulus outside it once per block of pixels (the far part, smooth
  * at that scale by construction), the disc's radius one block side. The block's side for an image:

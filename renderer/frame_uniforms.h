@@ -37,8 +37,10 @@ struct frame_uniforms {
     float rd_total[4];
     float near_rd[FRAME_NEAR_TABLE][4];
     float single_albedo[4];
+    float single_sigma_t[4];
     float owned[4];   /* x: the owned images' side is the projection images' >> x (frame_owned_shift);
-                       * y: views drawn (frame_plan.view_count) */
+                       * y: views drawn (frame_plan.view_count); z: the rate (per scene unit) and
+                       * w: the centre depth of the owned images' depth weights e^(z (depth - w)) */
     float samples[3 * LUCENT_MAX_SAMPLES][4];
     float through_pdf[4];
     float through[FRAME_THROUGH_SAMPLES][4];

@@ -32,6 +32,7 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     // at 1 / c = 1 + (i / (NEAR_TABLE - 1)) (1 / MIN_AREA_COS - 1).
     vec4 near_rd[NEAR_TABLE];
     vec4 single_albedo;            // xyz: sigma_s / sigma_t (single scattering); w: g
+    vec4 single_sigma_t;           // xyz: sigma_t = sigma_s + sigma_a (mm^-1)
     vec4 owned;                    // x: the owned images' side is the projection images' >> x (ownership.comp);
                                    // y: views drawn
     // The far annulus (outside the near disc), per channel (c * MAX_SAMPLES + j) or shared (first

@@ -2,8 +2,9 @@
 // 2^-frame.owned.x the projection images' resolution, their mean flux times the view's weight
 // among the views that see that surface point: a partition of unity over the views, by how squarely
 // each faces the point, so the far pass can gather from every view and count each lit point once.
-// Alpha is the depth times the flux's r + g + b, so that the mip chain's mean of it over the mean
-// flux is the depth where the light is (0 where there is none).
+// Alpha is the flux's r + g + b times e^(rate (depth - centre)) (frame.owned.zw), so that the mip
+// chain's mean of it over the mean flux is the depth where the light is, weighted as R_d weighs it
+// (exponentially: the nearest light counts most; 0 where there is none).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "frame.glsl"
@@ -61,5 +62,6 @@ void main()
             total += w;
     }
     vec3 owned = flux * (own / total);
-    imageStore(owned_images, ivec3(q, k), vec4(owned, (owned.r + owned.g + owned.b) * texel.a));
+    imageStore(owned_images, ivec3(q, k),
+               vec4(owned, (owned.r + owned.g + owned.b) * exp(frame.owned.z * (texel.a - frame.owned.w))));
 }

@@ -114,6 +114,18 @@ static const struct extreme cases[] = {
     {.fields = "\"lights\":[{\"type\":\"point\",\"position\":[0,0,0]},{\"type\":\"point\",\"position\":[1e6,0,0],"
                "\"intensity\":1e12},{\"direction\":[1,-1,0]},{\"direction\":[0,1e-300,-1]}]",
      .irradiance = -1.0, .measured = {0.0255, 0.0238, 0.0137}},
+    /* from behind (transmission through light views): long reach with sigma_a 0 (the owned images'
+     * depth weights at their lowest rate), none at all (skin1 a kilometre wide: their highest), and a
+     * point light 0.05 radii behind an object 1 mm wide, where the light views' image is nearly all
+     * the lit cap (irradiance up to 1 / 0.05^2; five 1.5x bright on average, 1.9x on the axis: point
+     * lights close behind are the light views' worst case, README). `single` has no light views: black,
+     * rel L2 1 (still run: finite, bounded, covering what the reference covers). */
+    {.fields = "\"material\":{\"sigma_a\":[0,0,0],\"sigma_s_prime\":[1,1,1]},\"lights\":[{\"direction\":[0,0,1]}]",
+     .irradiance = 1.0, .measured = {0.113, 1.0, 0.0804}},
+    {.fields = "\"scale_mm\":1e6,\"material\":{\"preset\":\"skin1\"},\"lights\":[{\"direction\":[0,0,1]}]",
+     .irradiance = 1.0, .measured = {0, 0, 0}},
+    {.fields = "\"scale_mm\":0.5,\"lights\":[{\"type\":\"point\",\"position\":[0,0,-1.05]}]",
+     .irradiance = 400.0, .measured = {0.581, 1.0, 0.256}},
     /* inside, the fast methods shade the inner faces and the reference does not: not compared */
     {.fields = "\"camera\":{\"position\":[0,0,0.1],\"target\":[0,0,-1]}", .irradiance = 1.0,
      .measured = {NAN, NAN, NAN}},
@@ -126,6 +138,11 @@ static const struct extreme cases[] = {
     {.fields = "\"single_scattering\":true,\"material\":{\"preset\":\"skin1\",\"g\":-0.95},"
                "\"lights\":[{\"direction\":[0,0,-1]}]",
      .irradiance = 1.0, .allowance = 100.0, .measured = {0.0159, 0.0159, 0.0159}},
+    /* forward-scattering lobe from behind: light through the sphere scattered once towards the camera
+     * (single scattering through a light view), up to p_HG(0.95, 1) = 62/sr; bounded as above */
+    {.fields = "\"single_scattering\":true,\"material\":{\"preset\":\"skin1\",\"g\":0.95},"
+               "\"lights\":[{\"direction\":[0,0,1]}]",
+     .irradiance = 1.0, .allowance = 100.0, .measured = {0.348, 1.0, 0.28}},
     SPHERE_CASE(SPHERE_PLAIN, 1e-6, 0.0, 0.0352, 0.0383, 0.026),         /* coordinates around 1e-6 */
     SPHERE_CASE(SPHERE_PLAIN, 1.0, 1e6, 0.0406, 0.0462, 0.0338),           /* coordinates around 1e6 */
     SPHERE_CASE(SPHERE_BROKEN, 1.0, 0.0, 0.0352, 0.0383, 0.026),         /* degenerate and duplicate faces */
