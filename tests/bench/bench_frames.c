@@ -1,5 +1,6 @@
 /* bench_frames.c - warm frame times of scene documents: median of N frames per pass and in total, with
  * the CPU model and the device, as a Markdown table (frame_ratio.sh runs two builds side by side). */
+#include "bench_host.h"
 #include "bench_median.h"
 #include "lucent.h"
 
@@ -8,23 +9,6 @@
 #include <string.h>
 
 enum { T_TOTAL, T_PROJECTION, T_SCATTER, T_COUNT };
-
-static void cpu_model(char *out, size_t cap)
-{
-    snprintf(out, cap, "unknown CPU");
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    char line[512];
-    while (f && fgets(line, sizeof line, f)) {
-        char *colon = strchr(line, ':');
-        if (strncmp(line, "model name", 10) == 0 && colon) {
-            snprintf(out, cap, "%s", colon + 2);
-            out[strcspn(out, "\n")] = '\0';
-            break;
-        }
-    }
-    if (f)
-        fclose(f);
-}
 
 static int read_scene(const char *path, lucent_scene *s, lucent_error *err)
 {

@@ -1,6 +1,8 @@
 /* bench_trade.c - the measured speed/accuracy trade: every fast mode timed warm and scored against method
  * "reference" over 5 meshes x 3 lights x 4 materials x 2 sizes; writes CSV, Markdown and a plot table. */
+#include "bench_host.h"
 #include "bench_median.h"
+#include "bench_scene.h"
 #include "flat_cube.h"
 #include "lucent.h"
 
@@ -11,15 +13,6 @@
 
 #define N(a) (sizeof(a) / sizeof((a)[0]))
 
-struct mesh_case {
-    const char *name;
-    const char *json;    /* mesh object; NULL: an OBJ file (options.mesh_file) */
-    const char *camera;  /* scene fragment; NULL: the default camera, from +Z */
-};
-struct light_case {
-    const char *name;
-    const char *direction;  /* the way the light travels; the camera looks along -Z from +Z */
-};
 /* A mode is a scene fragment added to the case; one line here adds it everywhere. Modes with single
  * scattering are scored against a reference that has it too. */
 struct mode {
@@ -37,10 +30,10 @@ struct mode {
 enum { MESH_SPHERE, MESH_TORUS, MESH_PROTRUSION, MESH_BUNNY, MESH_CUBE, MESH_SLAB, MESH_COUNT };
 enum { LIGHT_FRONT, LIGHT_SIDE, LIGHT_BACK, LIGHT_RIM };
 static const struct mesh_case meshes[] = {
-    [MESH_SPHERE] = {"sphere", "{\"builtin\":\"sphere\"}", NULL},
-    [MESH_TORUS] = {"torus", "{\"builtin\":\"torus\"}", NULL},
-    [MESH_PROTRUSION] = {"protrusion", "{\"builtin\":\"protrusion\"}", NULL},
-    [MESH_BUNNY] = {"bunny", NULL, NULL},
+    [MESH_SPHERE] = {"sphere", "{\"builtin\":\"sphere\"}", ""},
+    [MESH_TORUS] = {"torus", "{\"builtin\":\"torus\"}", ""},
+    [MESH_PROTRUSION] = {"protrusion", "{\"builtin\":\"protrusion\"}", ""},
+    [MESH_BUNNY] = {"bunny", NULL, ""},
     [MESH_CUBE] = {"cube", NULL, "\"camera\":{\"position\":[1.6,1.2,2.0],\"target\":[0,0,0]},"},
     [MESH_SLAB] = {"slab", NULL, "\"scale_mm\":50,"},
 };
@@ -76,6 +69,7 @@ struct options {
     const char *mesh_file[MESH_COUNT];  /* the meshes given as files: the bunny, and the cube and slab written here */
     char cube_path[4096], slab_path[4096];
     int frames, size_count;
+    unsigned lights, modes;   /* selected (--lights, --modes): bit i for lights[i] and modes[i] */
 };
 
 struct case_id {
@@ -97,6 +91,7 @@ enum { SUMMARY_MEDIANS = 6 };
 
 struct outputs {
     FILE *csv, *md, *tsv;
+    char device[sizeof(((lucent_stats *)0)->device)];   /* as the renders report it */
 };
 
 static struct case_id case_of(int index)
@@ -124,16 +119,48 @@ static void case_label(int index, char *buf, size_t cap)
 
 static int usage(void)
 {
-    fprintf(stderr, "usage: bench_trade [--quick] [--frames F] BUNNY.obj OUT_PREFIX\n"
+    fprintf(stderr, "usage: bench_trade [--quick] [--frames F] [--lights L,...] [--modes M,...] BUNNY.obj OUT_PREFIX\n"
                     "  writes OUT_PREFIX.csv, OUT_PREFIX.md, OUT_PREFIX_summary.tsv (for plot_trade.sh) and\n"
                     "  OUT_PREFIX_cube.obj and OUT_PREFIX_slab.obj (the meshes it writes and renders);\n"
-                    "  --quick: 256x256 only (default 256 and 512); F: timed warm frames per mode (default 5)\n");
+                    "  --quick: 256x256 only (default 256 and 512); F: timed warm frames per mode (default 5);\n"
+                    "  --lights, --modes: only these (comma-separated names as in the report, default all;\n"
+                    "  the paper's claim and the cube table need the side light and their modes)\n");
     return 2;
+}
+
+/* The bits of the comma-separated names in `list` among names[0..count); 0 if one is unknown. */
+static unsigned parse_names(const char *list, const char *(*name_of)(int), int count)
+{
+    unsigned bits = 0;
+    for (const char *at = list;; at++) {
+        size_t len = strcspn(at, ",");
+        int found = -1;
+        for (int i = 0; i < count && found < 0; i++)
+            if (strlen(name_of(i)) == len && strncmp(name_of(i), at, len) == 0)
+                found = i;
+        if (found < 0)
+            return 0;
+        bits |= 1u << found;
+        at += len;
+        if (*at == '\0')
+            return bits;
+    }
+}
+
+static const char *light_name(int i)
+{
+    return lights[i].name;
+}
+
+static const char *mode_name(int i)
+{
+    return modes[i].name;
 }
 
 static int parse_options(int argc, char **argv, struct options *o)
 {
-    *o = (struct options){.frames = 5, .size_count = (int)N(sizes)};
+    *o = (struct options){.frames = 5, .size_count = (int)N(sizes), .lights = (1u << N(lights)) - 1,
+                          .modes = (1u << MODES) - 1};
     int positional = 0;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--quick") == 0) {
@@ -144,6 +171,12 @@ static int parse_options(int argc, char **argv, struct options *o)
             if (*end || f < 1 || f > 1000)
                 return -1;
             o->frames = (int)f;
+        } else if (strcmp(argv[i], "--lights") == 0 && i + 1 < argc) {
+            if (!(o->lights = parse_names(argv[++i], light_name, (int)N(lights))))
+                return -1;
+        } else if (strcmp(argv[i], "--modes") == 0 && i + 1 < argc) {
+            if (!(o->modes = parse_names(argv[++i], mode_name, MODES)))
+                return -1;
         } else if (positional == 0) {
             o->mesh_file[MESH_BUNNY] = argv[i], positional++;
         } else if (positional == 1) {
@@ -155,26 +188,12 @@ static int parse_options(int argc, char **argv, struct options *o)
     return positional == 2 ? 0 : -1;
 }
 
-/* The scene of one case with the given fragment ("method" and knobs); a mesh file's path is set after
- * parsing so no path needs JSON escaping. */
+/* The scene of one case with the given fragment ("method" and knobs). */
 static lucent_status make_scene(const struct options *o, struct case_id c, const char *fragment, lucent_scene *s,
                                 lucent_error *err)
 {
-    const struct mesh_case *m = &meshes[c.mesh];
-    char json[1024];
-    int n = snprintf(json, sizeof json,
-                     "{\"mesh\":%s,\"material\":{\"preset\":\"%s\"},\"lights\":[{\"direction\":%s,\"intensity\":3}],"
-                     "\"width\":%d,\"height\":%d,%s%s}",
-                     m->json ? m->json : "{\"builtin\":\"sphere\"}", materials[c.material], lights[c.light].direction,
-                     sizes[c.size], sizes[c.size], m->camera ? m->camera : "", fragment);
-    if (n < 0 || (size_t)n >= sizeof json)
-        return lucent_fail(err, LUCENT_E_INTERNAL, "", "scene document too long");
-    lucent_status st = lucent_scene_parse(json, (size_t)n, 1, s, err);
-    if (st != LUCENT_OK || m->json)
-        return st;
-    s->mesh.source = LUCENT_MESH_FILE;
-    snprintf(s->mesh.file, sizeof s->mesh.file, "%s", o->mesh_file[c.mesh]);
-    return LUCENT_OK;
+    return bench_scene(&meshes[c.mesh], o->mesh_file[c.mesh], materials[c.material], &lights[c.light], sizes[c.size],
+                       fragment, s, err);
 }
 
 static void record_frame(const lucent_stats *st, double *t, int frames, int f)
@@ -187,7 +206,7 @@ static void record_frame(const lucent_stats *st, double *t, int frames, int f)
 
 /* One warm-up frame, then `frames` timed ones; the last is scored against ref. */
 static lucent_status measure(lucent_renderer *r, const lucent_scene *s, int frames, const lucent_image *ref,
-                             struct result *out, lucent_error *err)
+                             struct result *out, char *device, lucent_error *err)
 {
     double *t = calloc((size_t)frames * T_COUNT, sizeof *t);
     if (!t)
@@ -201,6 +220,7 @@ static lucent_status measure(lucent_renderer *r, const lucent_scene *s, int fram
             break;
         if (f >= 0)
             record_frame(&stats, t, frames, f);
+        memcpy(device, stats.device, sizeof stats.device);
         if (f == frames - 1)
             st = lucent_image_compare(&img, ref, &out->e, err);
         lucent_image_free(&img);
@@ -255,8 +275,8 @@ static lucent_status render_reference(lucent_renderer *r, const struct options *
 }
 
 /* Renders the references of one case, then every mode; rows go to the CSV as they are measured. */
-static lucent_status run_case(lucent_renderer *r, const struct options *o, int index, struct result *row, FILE *csv,
-                              lucent_error *err)
+static lucent_status run_case(lucent_renderer *r, const struct options *o, int index, struct result *row,
+                              struct outputs *out, lucent_error *err)
 {
     lucent_image ref[2] = {{0}, {0}};
     lucent_scene s;
@@ -264,13 +284,15 @@ static lucent_status run_case(lucent_renderer *r, const struct options *o, int i
     if (st == LUCENT_OK && any_single_scattering())
         st = render_reference(r, o, index, 1, &ref[1], err);
     for (int m = 0; m < MODES && st == LUCENT_OK; m++) {
+        if (!(o->modes & 1u << m))
+            continue;
         st = make_scene(o, case_of(index), modes[m].json, &s, err);
         if (st == LUCENT_OK)
-            st = measure(r, &s, o->frames, &ref[modes[m].single_scattering], &row[m], err);
+            st = measure(r, &s, o->frames, &ref[modes[m].single_scattering], &row[m], out->device, err);
         if (st == LUCENT_OK)
-            write_csv_row(csv, index, m, &row[m]);
+            write_csv_row(out->csv, index, m, &row[m]);
     }
-    fflush(csv);
+    fflush(out->csv);
     lucent_image_free(&ref[0]);
     lucent_image_free(&ref[1]);
     return st;
@@ -282,55 +304,58 @@ static int worse(const struct result *res, int a, int b, int mode, int band)
     return band ? x->band.rel_l2 > y->band.rel_l2 : x->object.rel_l2 > y->object.rel_l2;
 }
 
-static struct summary summarize(const struct result *res, int size, int mode, double *scratch)
+static int case_selected(const struct options *o, int index)
+{
+    return (o->lights >> case_of(index).light) & 1u;
+}
+
+static int cases_selected(const struct options *o)
+{
+    int n = 0;
+    for (int i = 0; i < CASES_PER_SIZE; i++)
+        n += case_selected(o, i);
+    return n;
+}
+
+static struct summary summarize(const struct options *o, const struct result *res, int size, int mode, double *scratch)
 {
     struct summary s = {0};
-    int first = case_index(size, 0, 0, 0);
-    s.worst = s.worst_band = first;
+    int first = case_index(size, 0, 0, 0), n = 0;
+    s.worst = s.worst_band = -1;
     double *v[SUMMARY_MEDIANS];
     for (int k = 0; k < SUMMARY_MEDIANS; k++)
         v[k] = scratch + k * CASES_PER_SIZE;
-    for (int i = 0; i < CASES_PER_SIZE; i++) {
-        const struct result *x = &res[(first + i) * MODES + mode];
-        v[0][i] = x->ms[T_TOTAL], v[1][i] = x->e.object.rel_l2, v[2][i] = x->e.band.rel_l2;
-        v[3][i] = x->e.noise, v[4][i] = x->e.low_frequency_rel_l2, v[5][i] = x->e.mean_ratio;
-        s.worst = worse(res, first + i, s.worst, mode, 0) ? first + i : s.worst;
-        s.worst_band = worse(res, first + i, s.worst_band, mode, 1) ? first + i : s.worst_band;
+    for (int i = first; i < first + CASES_PER_SIZE; i++) {
+        if (!case_selected(o, i))
+            continue;
+        const struct result *x = &res[i * MODES + mode];
+        v[0][n] = x->ms[T_TOTAL], v[1][n] = x->e.object.rel_l2, v[2][n] = x->e.band.rel_l2;
+        v[3][n] = x->e.noise, v[4][n] = x->e.low_frequency_rel_l2, v[5][n] = x->e.mean_ratio;
+        n++;
+        s.worst = s.worst < 0 || worse(res, i, s.worst, mode, 0) ? i : s.worst;
+        s.worst_band = s.worst_band < 0 || worse(res, i, s.worst_band, mode, 1) ? i : s.worst_band;
     }
     double *median[SUMMARY_MEDIANS] = {&s.ms, &s.rel_l2, &s.band_rel_l2, &s.noise, &s.low_frequency_rel_l2,
                                        &s.mean_ratio};
     for (int k = 0; k < SUMMARY_MEDIANS; k++)
-        *median[k] = bench_median(v[k], CASES_PER_SIZE);
+        *median[k] = bench_median(v[k], n);
     return s;
 }
 
 /* Pareto front on (median ms, median rel L2): no other mode is at least as fast and as accurate and
  * strictly better in one. */
-static void mark_pareto(struct summary *s)
+static void mark_pareto(const struct options *o, struct summary *s)
 {
     for (int i = 0; i < MODES; i++) {
         s[i].pareto = 1;
         for (int j = 0; j < MODES; j++)
-            if (s[j].ms <= s[i].ms && s[j].rel_l2 <= s[i].rel_l2 && (s[j].ms < s[i].ms || s[j].rel_l2 < s[i].rel_l2))
+            if ((o->modes & 1u << j) && s[j].ms <= s[i].ms && s[j].rel_l2 <= s[i].rel_l2 && (s[j].ms < s[i].ms || s[j].rel_l2 < s[i].rel_l2))
                 s[i].pareto = 0;
     }
 }
 
-#if defined(__GNUC__)
-__attribute__((format(printf, 2, 3)))
-#endif
-static void emit(FILE *md, const char *fmt, ...)
-{
-    va_list a, b;
-    va_start(a, fmt);
-    va_copy(b, a);
-    vfprintf(stdout, fmt, a);
-    vfprintf(md, fmt, b);
-    va_end(b);
-    va_end(a);
-}
-
-static void write_summary(const struct result *res, const struct summary *s, int size, const struct outputs *out)
+static void write_summary(const struct options *o, const struct result *res, const struct summary *s, int size,
+                          const struct outputs *out)
 {
     char worst[128], worst_band[128];
     emit(out->md, "\n### %dx%d\n\n| mode | median ms | median rel L2 | median band rel L2 | median noise "
@@ -338,6 +363,8 @@ static void write_summary(const struct result *res, const struct summary *s, int
                   "| worst band rel L2 (case) | Pareto |\n|---|---|---|---|---|---|---|---|---|---|\n",
          sizes[size], sizes[size]);
     for (int m = 0; m < MODES; m++) {
+        if (!(o->modes & 1u << m))
+            continue;
         case_label(s[m].worst, worst, sizeof worst);
         case_label(s[m].worst_band, worst_band, sizeof worst_band);
         emit(out->md, "| %s | %.1f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f (%s) | %.4f (%s) | %s |\n", modes[m].name,
@@ -410,14 +437,22 @@ static void write_cube(const struct options *o, const struct result *res, const 
             }
 }
 
+/* Both modes a table compares were measured. */
+static int modes_selected(const struct options *o, const char *a, const char *b)
+{
+    return ((o->modes >> mode_named(a)) & 1u) && ((o->modes >> mode_named(b)) & 1u);
+}
+
 static void write_report(const struct options *o, const struct result *res, const struct outputs *out,
                          double *scratch)
 {
     char names[256] = "";
     for (size_t m = 0, used = 0; m < N(meshes) && used < sizeof names; m++)
         used += (size_t)snprintf(names + used, sizeof names - used, "%s%s", m ? ", " : "", meshes[m].name);
-    emit(out->md, "## Speed/accuracy trade against method \"reference\"\n\n"
-                  "Per mode: median over %d cases (%d meshes: %s; x %d lights x %d materials) of the warm frame "
+    char cpu[256];
+    cpu_model(cpu, sizeof cpu);
+    emit(out->md, "## Speed/accuracy trade against method \"reference\"\n\nCPU: %s; device: %s.\n\n", cpu, out->device);
+    emit(out->md, "Per mode: median over %d cases (%d meshes: %s; x %d lights x %d materials) of the warm frame "
                   "time (median of %d frames after 1 warm-up), of the relative L2 error, whole object and "
                   "silhouette band (normal 70-90 degrees from the view), of the noise (high-pass error "
                   "||hp(test) - hp(ref)|| / ||ref||, hp = x - box3x3(x)), the low-frequency error (relative L2 "
@@ -425,17 +460,21 @@ static void write_report(const struct options *o, const struct result *res, cons
                   "reference's); worst case; on the Pareto front of (median ms, median rel L2). The cube is "
                   "seen from above its front-right corner (+X, +Y, +Z faces), each light striking one face; "
                   "the slab (50 x 50 x 3 mm) face-on; the rim light 130 degrees from the view direction.\n",
-         CASES_PER_SIZE, (int)N(meshes), names, (int)N(lights), (int)N(materials), o->frames);
+         cases_selected(o), (int)N(meshes), names, cases_selected(o) / (int)(N(meshes) * N(materials)), (int)N(materials),
+         o->frames);
     fprintf(out->tsv, "size\tmode\tms\trel_l2\tband_rel_l2\tpareto\n");
     for (int z = 0; z < o->size_count; z++) {
         struct summary s[MODES];
         for (int m = 0; m < MODES; m++)
-            s[m] = summarize(res, z, m, scratch);
-        mark_pareto(s);
-        write_summary(res, s, z, out);
+            s[m] = summarize(o, res, z, m, scratch);
+        mark_pareto(o, s);
+        write_summary(o, res, s, z, out);
     }
-    write_claim(o, res, out);
-    write_cube(o, res, out);
+    int side = (o->lights >> LIGHT_SIDE) & 1u;
+    if (side && modes_selected(o, "single", "five"))
+        write_claim(o, res, out);
+    if (side && modes_selected(o, "five", "auto"))
+        write_cube(o, res, out);
 }
 
 static int open_outputs(const char *prefix, struct outputs *out)
@@ -468,11 +507,11 @@ static int close_outputs(struct outputs *out)
     return rc;
 }
 
-static int run(lucent_renderer *r, const struct options *o, struct result *res, const struct outputs *out)
+static int run(lucent_renderer *r, const struct options *o, struct result *res, struct outputs *out)
 {
     lucent_error err = {0};
     for (int i = 0; i < o->size_count * CASES_PER_SIZE; i++)
-        if (run_case(r, o, i, &res[i * MODES], out->csv, &err) != LUCENT_OK) {
+        if (case_selected(o, i) && run_case(r, o, i, &res[i * MODES], out, &err) != LUCENT_OK) {
             char label[128];
             case_label(i, label, sizeof label);
             fprintf(stderr, "bench_trade: %d %s: %s%s%s\n", sizes[case_of(i).size], label, err.field,
@@ -481,18 +520,6 @@ static int run(lucent_renderer *r, const struct options *o, struct result *res, 
         }
     double scratch[SUMMARY_MEDIANS * CASES_PER_SIZE];
     write_report(o, res, out, scratch);
-    return 0;
-}
-
-/* Writes an OBJ beside the outputs as PREFIX_NAME.obj (kept: it is the mesh the report's rows rendered). */
-static int write_obj(const char *prefix, const char *name, const char *text, char *path, size_t cap)
-{
-    snprintf(path, cap, "%s_%s.obj", prefix, name);
-    FILE *f = fopen(path, "w");
-    if (!f || fputs(text, f) == EOF || fclose(f) != 0) {
-        perror(path);
-        return -1;
-    }
     return 0;
 }
 
@@ -512,8 +539,8 @@ int main(int argc, char **argv)
     struct options o;
     if (parse_options(argc, argv, &o) != 0)
         return usage();
-    if (write_obj(o.prefix, "cube", flat_cube_obj, o.cube_path, sizeof o.cube_path) != 0 ||
-        write_obj(o.prefix, "slab", flat_slab_obj, o.slab_path, sizeof o.slab_path) != 0)
+    if (bench_write_obj(o.prefix, "cube", flat_cube_obj, o.cube_path, sizeof o.cube_path) != 0 ||
+        bench_write_obj(o.prefix, "slab", flat_slab_obj, o.slab_path, sizeof o.slab_path) != 0)
         return 2;
     o.mesh_file[MESH_CUBE] = o.cube_path;
     o.mesh_file[MESH_SLAB] = o.slab_path;
