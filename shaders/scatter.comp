@@ -318,19 +318,44 @@ vec3 single_scattered(vec3 p, vec3 n, vec3 to_eye, vec3 lit)
     return (free_sum + visible * shadowed_sum) * frame.single_albedo.rgb * fresnel_transmittance(eta, cos_o);
 }
 
+// View k's texels around image position `at`, bilinearly weighted over those that hold a surface
+// (alpha: depth; -1 where none holds one): a ray stepping across the image reads no texel steps (its
+// path inside is e^(-sigma_t) sensitive: a texel's depth step speckled a skin1 ear).
+vec4 covered_bilinear(int k, vec2 at)
+{
+    vec2 grid = at - 0.5;
+    ivec2 base = ivec2(floor(grid));
+    vec2 f = grid - vec2(base);
+    vec4 sum = vec4(0.0);
+    float weights = 0.0;
+    for (int i = 0; i < 4; i++) {
+        ivec2 q = base + ivec2(i & 1, i >> 1);
+        vec4 texel = inside(k, q) ? texelFetch(projection_images, ivec3(q, k), 0) : vec4(-1.0);
+        float w = ((i & 1) != 0 ? f.x : 1.0 - f.x) * ((i >> 1) != 0 ? f.y : 1.0 - f.y);
+        if (texel.a >= 0.0) {
+            sum += w * texel;
+            weights += w;
+        }
+    }
+    return weights > 0.0 ? sum / weights : vec4(-1.0);
+}
+
 // The light that light view k shows entering the object, scattered once at x (at t scene units along
-// p's refracted view ray `into`) towards p, per unit length and sigma_s, per channel: the view's texel
-// where x lands holds the light entering there and, with its depth and normal, its path inside
-// (Jensen's refraction correction). 0 where x lies outside, in front of the surface the light meets.
+// p's refracted view ray `into`) towards p, per unit length and sigma_s, per channel: the view's
+// texels where x lands hold the light entering there and, with their depth and normal, its path
+// inside (Jensen's refraction correction). 0 where x lies outside, in front of the surface the light
+// meets.
 vec3 scattered_once(int k, vec3 p, vec3 into, float t)
 {
     vec3 x = p + into * t;
-    ivec2 q = ivec2(floor(texel_coord(k, x)));
-    vec4 texel = inside(k, q) ? texelFetch(projection_images, ivec3(q, k), 0) : vec4(-1.0);
+    vec2 at = texel_coord(k, x);
+    ivec2 q = ivec2(floor(at));
+    vec4 texel = covered_bilinear(k, at);
     float inside_path = view_depth(k, x) - texel.a;
-    if (texel.a < 0.0 || inside_path <= 0.0)
-        return vec3(0.0);
-    vec3 ni = normalize(texelFetch(projection_normals, ivec3(q, k), 0).xyz);
+    vec3 ni = inside(k, q) ? texelFetch(projection_normals, ivec3(q, k), 0).xyz : vec3(0.0);
+    if (texel.a < 0.0 || inside_path <= 0.0 || dot(ni, ni) == 0.0)
+        return vec3(0.0);   // (the nearest texel can be empty where a neighbour is not)
+    ni = normalize(ni);
     float eta = frame.params.x, cos_i = view_score(k, ni), cos_in = max(refracted_cosine(cos_i), 1e-6);
     if (cos_i <= 0.0)
         return vec3(0.0);
@@ -356,8 +381,7 @@ vec3 single_through(int k, vec3 p, vec3 n, vec3 to_eye)
         return vec3(0.0);
     float extent = 2.0 * frame.view_du[k].w * frame.view_dv[k].w, mm = frame.params.y;
     vec3 into = refract(-to_eye, n, 1.0 / frame.params.x), sigma_t = frame.single_sigma_t.rgb;
-    ivec2 home = ivec2(floor(texel_coord(k, p)));
-    float entry = inside(k, home) ? texelFetch(projection_images, ivec3(home, k), 0).a : -1.0;
+    float entry = covered_bilinear(k, texel_coord(k, p)).a;
     float towards = -dot(into, frame.view_dir[k].xyz), thickness = view_depth(k, p) - entry;
     float span = entry >= 0.0 && thickness > 0.0 && towards > 0.1 ? min(thickness / towards, extent) : extent;
     float even_density = float(SINGLE_EVEN_SAMPLES) / (span * mm);   // per mm

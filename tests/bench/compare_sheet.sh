@@ -18,7 +18,7 @@
 set -euo pipefail
 
 prog=${0##*/}
-all_scenes="bunny_side cube_edge protrusion_side bunny_back cube_edge_skin1 sphere_side"
+all_scenes="bunny_side cube_edge protrusion_side bunny_back cube_edge_skin1 sphere_side bunny_back_single"
 default_scenes="bunny_side cube_edge protrusion_side bunny_back"
 
 usage() {
@@ -46,6 +46,7 @@ Scenes (marble unless named; light "direction" is the way it travels; camera fro
   bunny_back       bunny, light from behind ([0,0,1]); zoom: the body
   cube_edge_skin1  cube_edge in skin1 (short mean free path)
   sphere_side      builtin sphere, light [-1,0,0]; zoom: the terminator
+  bunny_back_single  bunny in skin1 from behind with single scattering; zoom: the ears
 EOF
 }
 die() { echo "$prog: $*" >&2; exit 2; }
@@ -142,6 +143,7 @@ scene_json() {  # scene_json NAME: the scene document without size and method
     cube_edge_skin1) echo "\"mesh\":{\"file\":\"$cube_obj\"},\"material\":{\"preset\":\"skin1\"},$side,$cube_cam" ;;
     protrusion_side) echo "\"mesh\":{\"builtin\":\"protrusion\"},\"material\":{\"preset\":\"marble\"},$side" ;;
     sphere_side) echo "\"mesh\":{\"builtin\":\"sphere\"},\"material\":{\"preset\":\"marble\"},$side" ;;
+    bunny_back_single) echo "\"mesh\":{\"file\":\"$bunny\"},\"material\":{\"preset\":\"skin1\"},\"single_scattering\":true,\"lights\":[{\"direction\":[0,0,1]}]" ;;
     esac
 }
 scene_zoom() {  # scene_zoom NAME: left and top of the zoomed third, as fractions of the image
@@ -151,6 +153,7 @@ scene_zoom() {  # scene_zoom NAME: left and top of the zoomed third, as fraction
     cube_edge|cube_edge_skin1) echo "0.42 0.24" ;;  # the corner where the lit face meets front and top
     protrusion_side) echo "0.36 0.33" ;;
     sphere_side) echo "0.30 0.33" ;;
+    bunny_back_single) echo "0.30 0.10" ;;
     esac
 }
 
