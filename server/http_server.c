@@ -325,6 +325,33 @@ static void mhd_log(void *cls, const char *fmt, va_list ap)
     log_line(LOG_WARN, "libmicrohttpd: %s", msg);
 }
 
+static int hex_digit(char c)
+{
+    return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
+}
+
+/* Percent-decoding of the path and of each query key and value, as libmicrohttpd's own except that %00
+ * stays as sent: decoded, a NUL cut the string where lucentd reads it, so "w=16%00abc" rendered 16 wide
+ * and ".../<id>%00.json" named <id>. Kept, every byte sent is part of what is validated (400 naming the
+ * field, 404 for a path). Returns the decoded length. */
+static size_t unescape_keeping_nul(void *cls, struct MHD_Connection *c, char *s)
+{
+    (void)cls;
+    (void)c;
+    char *out = s;
+    for (const char *in = s; *in;) {
+        int hi = in[0] == '%' ? hex_digit(in[1]) : -1, lo = hi >= 0 ? hex_digit(in[2]) : -1;
+        if (lo >= 0 && (hi | lo) != 0) {
+            *out++ = (char)(hi << 4 | lo);
+            in += 3;
+        } else {
+            *out++ = *in++;
+        }
+    }
+    *out = '\0';
+    return (size_t)(out - s);
+}
+
 struct MHD_Daemon *http_start(struct server *srv, uint16_t *port, lucent_error *err)
 {
     const struct config *cfg = &srv->cfg;
@@ -352,7 +379,8 @@ struct MHD_Daemon *http_start(struct server *srv, uint16_t *port, lucent_error *
         MHD_OPTION_SOCK_ADDR, addr,
         MHD_OPTION_CONNECTION_LIMIT, (unsigned)cfg->max_connections, MHD_OPTION_CONNECTION_TIMEOUT,
         (unsigned)cfg->connection_timeout_s, MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)CONNECTION_MEMORY,
-        MHD_OPTION_NOTIFY_COMPLETED, on_completed, srv, MHD_OPTION_END);
+        MHD_OPTION_NOTIFY_COMPLETED, on_completed, srv, MHD_OPTION_UNESCAPE_CALLBACK, unescape_keeping_nul, NULL,
+        MHD_OPTION_END);
     if (!d) {
         lucent_fail(err, LUCENT_E_IO, "listen", "cannot listen on %s port %d (in use, or not an address of this host)",
                     cfg->listen, cfg->port);

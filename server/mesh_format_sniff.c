@@ -1,5 +1,5 @@
-/* mesh_format_sniff.c - names the format of an upload (obj, ply, stl, gltf, glb) from its Content-Type,
- * or from its first bytes when the type says nothing specific. Declared in mesh_import_sandbox.h. */
+/* mesh_format_sniff.c - names the format of an upload (obj, ply, stl, gltf, glb) from its Content-Type
+ * and its first bytes, which decide unless the type is a mesh type. Declared in mesh_import_sandbox.h. */
 #include "mesh_import_sandbox.h"
 
 #include <string.h>
@@ -16,9 +16,6 @@ static const struct {
     {"model/ply", "ply"},        {"application/ply", "ply"},    {"model/x-ply", "ply"},
     {"model/gltf+json", "gltf"}, {"model/gltf-binary", "glb"},
 };
-
-/* Clients that know nothing better send these; the bytes decide. */
-static const char *const GENERIC_TYPES[] = {"", "application/octet-stream", "text/plain"};
 
 static int type_is(const char *type, size_t len, const char *name)
 {
@@ -80,7 +77,7 @@ static const char *sniff_bytes(const unsigned char *p, size_t len)
     return looks_like_obj(p + i, len - i) ? "obj" : NULL;
 }
 
-const char *mesh_format_sniff(const char *content_type, const void *bytes, size_t len)
+const char *mesh_format_of_type(const char *content_type)
 {
     const char *type = content_type ? content_type : "";
     while (*type == ' ' || *type == '\t')
@@ -89,8 +86,21 @@ const char *mesh_format_sniff(const char *content_type, const void *bytes, size_
     for (size_t i = 0; i < sizeof TYPES / sizeof TYPES[0]; i++)
         if (type_is(type, type_len, TYPES[i].type))
             return TYPES[i].ext;
-    for (size_t i = 0; i < sizeof GENERIC_TYPES / sizeof GENERIC_TYPES[0]; i++)
-        if (type_is(type, type_len, GENERIC_TYPES[i]))
-            return sniff_bytes(bytes, len);
     return NULL;
+}
+
+const char *mesh_format_of_bytes(const void *bytes, size_t len)
+{
+    return sniff_bytes(bytes, len);
+}
+
+/* A declared mesh type names the format unless the bytes are recognizably another one; any other
+ * type (none, generic, or one this list lacks, such as the legacy application/x-ply) lets the bytes
+ * decide. */
+const char *mesh_format_sniff(const char *content_type, const void *bytes, size_t len)
+{
+    const char *declared = mesh_format_of_type(content_type), *sniffed = sniff_bytes(bytes, len);
+    if (!declared)
+        return sniffed;
+    return !sniffed || strcmp(sniffed, declared) == 0 ? declared : NULL;
 }

@@ -36,8 +36,13 @@ lucent_status mesh_import_isolated(const char *import_tool, const struct import_
                                    size_t len, const char *ext, const char *out_path, struct mesh_info *info,
                                    lucent_error *err);
 
-/* Guesses obj/ply/stl/gltf/glb from a Content-Type (parameters ignored) and, when it is absent or
- * generic (application/octet-stream, text/plain), from the first bytes. NULL when unknown. */
+/* obj/ply/stl/gltf/glb of an upload: a mesh Content-Type (parameters ignored) names it unless the
+ * first bytes are recognizably another format (then NULL: they contradict it); any other type,
+ * generic or unknown, or none, lets the first bytes decide. NULL when neither names a format. */
 const char *mesh_format_sniff(const char *content_type, const void *bytes, size_t len);
+/* The format a mesh Content-Type names (NULL: not a mesh type), and the format the first bytes show
+ * (NULL: none recognized); mesh_format_sniff combines them. */
+const char *mesh_format_of_type(const char *content_type);
+const char *mesh_format_of_bytes(const void *bytes, size_t len);
 
 #endif

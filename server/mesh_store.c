@@ -365,6 +365,11 @@ lucent_status mesh_store_put(struct mesh_store *s, const void *bytes, size_t len
     lucent_status st;
     *created = 0;
     const char *ext = mesh_format_sniff(content_type, bytes, len);
+    const char *declared = mesh_format_of_type(content_type), *sniffed = mesh_format_of_bytes(bytes, len);
+    if (!ext && declared && sniffed)
+        return lucent_fail(err, LUCENT_E_INVALID, "Content-Type",
+                           "the Content-Type says %s but the bytes are %s: send the type of the file, or "
+                           "application/octet-stream to have it recognized", declared, sniffed);
     if (!ext)
         return lucent_fail(err, LUCENT_E_INVALID, "Content-Type",
                            "not a mesh format Lucent reads: send OBJ, PLY, STL, glTF with embedded buffers or "

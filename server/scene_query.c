@@ -192,7 +192,19 @@ static json_t *build(const struct query_field *fields, int count, lucent_error *
                 goto fail;
             }
         if (!m) {
-            lucent_fail(err, LUCENT_E_INVALID, fields[i].key, "unknown query field (see /openapi.json)");
+            /* Named as the client spelt it only when it could be a field name: the field picks the
+             * status (problem.c), and "?Content-Type=1" made a 415. */
+            const char *k = fields[i].key;
+            if (*k && strlen(k) <= 40 && strspn(k, "abcdefghijklmnopqrstuvwxyz0123456789_") == strlen(k)) {
+                lucent_fail(err, LUCENT_E_INVALID, k, "unknown query field (see /openapi.json)");
+                goto fail;
+            }
+            char shown[41];
+            size_t n = 0;
+            for (; k[n] && n < sizeof shown - 1; n++)
+                shown[n] = k[n] >= 0x20 && k[n] < 0x7f && k[n] != '"' && k[n] != '\\' ? k[n] : '?';
+            shown[n] = '\0';
+            lucent_fail(err, LUCENT_E_INVALID, "query", "unknown query field \"%s\" (see /openapi.json)", shown);
             goto fail;
         }
         if (!v || !*v) {

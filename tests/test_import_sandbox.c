@@ -325,8 +325,16 @@ static void check_sniff(void)
         {"application/sla", "", 0, "stl"},
         {"model/stl", "", 0, "stl"},
         {"application/ply", "", 0, "ply"},
-        {"image/png", "glTF", 4, NULL},
-        {"application/json", "{}", 2, NULL},
+        /* a type that is no mesh type lets the bytes decide (legacy application/x-ply, mislabelled files) */
+        {"image/png", "glTF", 4, "glb"},
+        {"application/json", "{}", 2, "gltf"},
+        {"application/x-ply", "ply\nformat ascii 1.0\n", 21, "ply"},
+        {"image/png", "hello", 5, NULL},
+        /* a mesh type the bytes contradict */
+        {"model/obj", "ply\nformat ascii 1.0\n", 21, NULL},
+        {"model/gltf+json", "glTF\x02\0\0\0", 8, NULL},
+        {"model/stl", "ply\r\n", 5, NULL},
+        {"model/stl", "solid x\n", 8, "stl"},
         {"application/octet-stream", "glTF\x02\0\0\0", 8, "glb"},
         {"application/octet-stream", "ply\nformat ascii 1.0\n", 21, "ply"},
         {"application/octet-stream", "solid cube\n", 11, "stl"},

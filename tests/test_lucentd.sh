@@ -179,6 +179,20 @@ c=$(req "$work/e" GET "$A/v1/render?light_dir=0,0,0")
 check "400 parser error renamed to the query field light_dir ($c)" problem "$work/e" 400 light_dir
 c=$(req "$work/e" GET "$A/v1/render?colour=red")
 check "400 unknown query field ($c)" problem "$work/e" 400 colour
+# A NUL (%00) stays part of the value, key or path it was sent in: validated as sent, never cut there.
+c=$(req "$work/e" GET "$A/v1/render?w=16%00abc&h=16")
+check "400 w=16%00abc names w ($c), not a 16 px render" problem_with "$work/e" 400 w '16%00abc'
+c=$(req "$work/e" GET "$A/v1/render?method=five%00x&w=16&h=16")
+check "400 method=five%00x names method ($c)" problem "$work/e" 400 method
+c=$(req "$work/e" GET "$A/v1/render?mesh=sphere%00.obj&w=16&h=16")
+check "400 mesh=sphere%00.obj names mesh ($c)" problem "$work/e" 400 mesh
+c=$(req "$work/e" GET "$A/v1/render?w%00junk=16")
+check "400 key w%00junk is an unknown query field ($c)" problem_with "$work/e" 400 query 'w%00junk'
+c=$(req "$work/e" GET "$A/v1/render%00x?w=16&h=16")
+check "404 path /v1/render%00x ($c)" problem "$work/e" 404 ""
+# The client does not pick the status: an unknown key named like a header is still a 400.
+c=$(req "$work/e" GET "$A/v1/render?Content-Type=1")
+check "400 (not 415) for the query key Content-Type ($c)" problem "$work/e" 400 query
 c=$(req "$work/e" POST "$A/v1/render" -H 'Content-Type: application/json' -d '{"mesh":{"file":"/etc/passwd"}}')
 check "400 file meshes refused ($c)" problem "$work/e" 400 mesh.file
 c=$(req "$work/e" GET "$A/v1/render?w=2000&h=64")
@@ -234,6 +248,15 @@ c=$(req "$work/mi" GET "$A/v1/meshes/$cube_id")
 check "GET mesh metadata 200 ($c)" [ "$(json_field "$work/mi" '["triangles"]')" = 12 ]
 c=$(req "$work/cube.png" GET "$A/v1/render?mesh=$cube_id&w=64&h=64&light_dir=-1,-0.5,-1&$fast")
 check "uploaded cube rendered 200 ($c)" pngs "$work/cube.png:64:64"
+c=$(req "$work/e" DELETE "$A/v1/meshes/$cube_id%00.json")
+c2=$(req "$work/mi2" GET "$A/v1/meshes/$cube_id")
+check "DELETE .../<id>%00.json is 404 ($c) and the mesh stays ($c2)" [ "$c" = 404 -a "$c2" = 200 ]
+# Media types: a type that is no mesh type (legacy application/x-ply) lets the bytes decide; a mesh type
+# the bytes contradict is refused.
+c=$(req "$work/e" POST "$A/v1/meshes" -H 'Content-Type: application/x-ply' --data-binary @/usr/share/assimp/models/PLY/cube_binary.ply)
+check "binary PLY as application/x-ply sniffed: 201 ($c)" [ "$c" = 201 ]
+c=$(req "$work/e" POST "$A/v1/meshes" -H 'Content-Type: model/ply' --data-binary @"$cube")
+check "OBJ declared model/ply: 415 naming the contradiction ($c)" problem_with "$work/e" 415 Content-Type 'says ply but the bytes are obj'
 c=$(req "$work/up3" POST "$A/v1/meshes" -H 'Content-Type: model/obj' --data-binary @"$tetra")
 tetra_id=$(json_field "$work/up3" '["id"]')
 c=$(req "$work/del" DELETE "$A/v1/meshes/$tetra_id")

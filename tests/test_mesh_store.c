@@ -154,9 +154,10 @@ static void check_lifecycle(void)
     st = mesh_store_put(s, no_faces, strlen(no_faces), "model/obj", id2, &info, &created, &err);
     test_check(st == LUCENT_E_MESH && count_files(dir, NULL) == 4, "OBJ without faces: %s (%s), no file left",
                lucent_status_name(st), err.message);
-    st = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "image/png", id2, &info, &created, &err);
-    test_check(st == LUCENT_E_INVALID && strcmp(err.field, "Content-Type") == 0,
-               "Content-Type image/png: %s, field \"%s\": %s", lucent_status_name(st), err.field, err.message);
+    st = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/ply", id2, &info, &created, &err);
+    test_check(st == LUCENT_E_INVALID && strcmp(err.field, "Content-Type") == 0 && strstr(err.message, "says ply") &&
+                   strstr(err.message, "are obj"),
+               "OBJ bytes declared model/ply: %s, field \"%s\": %s", lucent_status_name(st), err.field, err.message);
     st = mesh_store_put(s, "hello", 5, "application/octet-stream", id2, &info, &created, &err);
     test_check(st == LUCENT_E_INVALID && strcmp(err.field, "Content-Type") == 0,
                "unrecognizable bytes as application/octet-stream: %s, field \"%s\"", lucent_status_name(st),
