@@ -1,6 +1,7 @@
 /* image_compare.c - how far an image is from a reference: the error measures of the speed/accuracy
  * trade, over the whole object and over the silhouette band where a single projection image fails,
  * and the error split into speckle (high-pass), low frequencies and energy (mean ratio). */
+#include "json_text.h"
 #include "lucent.h"
 
 #include <math.h>
@@ -186,24 +187,29 @@ lucent_status lucent_image_compare(const lucent_image *test, const lucent_image 
     return LUCENT_OK;
 }
 
-/* The measures' JSON members, without braces. */
+/* The measures' JSON members, without braces (null where a measure is not finite). */
 static int measures_json(const lucent_error_measures *m, char *buf, size_t cap)
 {
-    return snprintf(buf, cap,
-                    "\"pixels\":%d,\"rel_l2\":%.6g,\"mean_abs\":%.6g,\"max_abs\":%.6g,\"p99_rel\":%.6g,"
-                    "\"share_over_10pct\":%.6g",
-                    m->pixels, m->rel_l2, m->mean_abs, m->max_abs, m->p99_rel, m->share_over_10pct);
+    char v[5][32];
+    const double x[5] = {m->rel_l2, m->mean_abs, m->max_abs, m->p99_rel, m->share_over_10pct};
+    for (int i = 0; i < 5; i++)
+        json_number(x[i], v[i], sizeof v[i]);
+    return snprintf(buf, cap, "\"pixels\":%d,\"rel_l2\":%s,\"mean_abs\":%s,\"max_abs\":%s,\"p99_rel\":%s,"
+                              "\"share_over_10pct\":%s",
+                    m->pixels, v[0], v[1], v[2], v[3], v[4]);
 }
 
 int lucent_image_error_json(const lucent_image_error *e, char *buf, size_t cap)
 {
-    char object[256], band[256];
+    char object[256], band[256], mean_ratio[32], noise[32], low[32];
     measures_json(&e->object, object, sizeof object);
     measures_json(&e->band, band, sizeof band);
+    json_number(e->mean_ratio, mean_ratio, sizeof mean_ratio);
+    json_number(e->noise, noise, sizeof noise);
+    json_number(e->low_frequency_rel_l2, low, sizeof low);
     int n = snprintf(buf, cap,
-                     "{%s,\"coverage_mismatch\":%d,\"mean_ratio\":%.6g,\"interior_pixels\":%d,\"noise\":%.6g,"
-                     "\"low_frequency_rel_l2\":%.6g,\"silhouette_band\":{%s}}",
-                     object, e->coverage_mismatch, e->mean_ratio, e->interior_pixels, e->noise,
-                     e->low_frequency_rel_l2, band);
+                     "{%s,\"coverage_mismatch\":%d,\"mean_ratio\":%s,\"interior_pixels\":%d,\"noise\":%s,"
+                     "\"low_frequency_rel_l2\":%s,\"silhouette_band\":{%s}}",
+                     object, e->coverage_mismatch, mean_ratio, e->interior_pixels, noise, low, band);
     return n < 0 || (size_t)n >= cap ? -1 : n;
 }

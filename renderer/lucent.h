@@ -58,6 +58,10 @@ const char *lucent_status_name(lucent_status s);
 #define LUCENT_MAX_EXPOSURE 64.0     /* stops, either way */
 #define LUCENT_MAX_REFERENCE_POINTS 4000000u
 #define LUCENT_MAX_G 0.95             /* |g|: sigma_s = sigma_s' / (1 - g) grows without bound at 1 */
+#define LUCENT_MAX_COORD 1.0e15       /* |x| of positions and directions: squared lengths stay finite */
+#define LUCENT_MAX_COLOR 1.0e6
+#define LUCENT_MIN_FOV_DEG 1.0        /* exclusive: tan(fov / 2) degenerates at 0 and 180 */
+#define LUCENT_MAX_FOV_DEG 170.0
 
 /* ---- Scene ---- */
 /* five, single: the image-space method (GPU); reference: the model without image-space shortcuts,

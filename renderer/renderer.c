@@ -2,6 +2,7 @@
  * cached meshes, and lucent_render(), which records and runs the four passes of one frame. */
 #include "auto_plan.h"
 #include "frame_record.h"
+#include "json_text.h"
 #include "reference.h"
 
 #include <math.h>
@@ -76,8 +77,54 @@ void lucent_renderer_destroy(lucent_renderer *r)
     free(r);
 }
 
-/* Library callers may build scenes by hand: the limits the GPU side and the dipole rely on are
- * checked again (the comparisons are written so that NaN fails them). */
+/* Every component finite and within +-bound (NaN fails). */
+static int within(const double v[3], double bound)
+{
+    for (int i = 0; i < 3; i++)
+        if (!(v[i] >= -bound && v[i] <= bound))
+            return 0;
+    return 1;
+}
+
+/* A hand-built light, as the parser would take it: a direction or position in range (a direction not
+ * zero), colour and intensity in range. */
+static lucent_status check_light(const lucent_light *l, int i, lucent_error *err)
+{
+    char field[32];
+    const double zero[3] = {0, 0, 0};
+    int point = l->type == LUCENT_LIGHT_POINT;
+    snprintf(field, sizeof field, "lights[%d]", i);
+    if (l->type != LUCENT_LIGHT_DIRECTIONAL && !point)
+        return lucent_fail(err, LUCENT_E_LIMIT, field, "unknown light type %d", (int)l->type);
+    if (!within(point ? l->position : l->direction, LUCENT_MAX_COORD) ||
+        (!point && memcmp(l->direction, zero, sizeof zero) == 0))
+        return lucent_fail(err, LUCENT_E_LIMIT, field, "%s must be finite, within +-%g%s", point ? "position" : "direction",
+                           LUCENT_MAX_COORD, point ? "" : " and not zero");
+    if (!within(l->color, LUCENT_MAX_COLOR) || l->color[0] < 0 || l->color[1] < 0 || l->color[2] < 0 ||
+        !(l->intensity >= 0 && l->intensity <= LUCENT_MAX_INTENSITY))
+        return lucent_fail(err, LUCENT_E_LIMIT, field, "color must be 0..%g and intensity 0..%g", LUCENT_MAX_COLOR,
+                           LUCENT_MAX_INTENSITY);
+    return LUCENT_OK;
+}
+
+/* A hand-built camera: the parser's field-of-view range, positions in range, distinct eye and target. */
+static lucent_status check_camera(const lucent_camera *c, lucent_error *err)
+{
+    if (!c->given)
+        return LUCENT_OK;
+    if (!(c->fov_deg > LUCENT_MIN_FOV_DEG && c->fov_deg < LUCENT_MAX_FOV_DEG))
+        return lucent_fail(err, LUCENT_E_LIMIT, "camera.fov_deg", "must be between %g and %g degrees",
+                           LUCENT_MIN_FOV_DEG, LUCENT_MAX_FOV_DEG);
+    if (!within(c->position, LUCENT_MAX_COORD) || !within(c->target, LUCENT_MAX_COORD) ||
+        !within(c->up, LUCENT_MAX_COORD) || memcmp(c->position, c->target, sizeof c->position) == 0)
+        return lucent_fail(err, LUCENT_E_LIMIT, "camera", "position, target and up must be finite, within +-%g, "
+                           "and the position apart from the target", LUCENT_MAX_COORD);
+    return LUCENT_OK;
+}
+
+/* Library callers may build scenes by hand: what the parser guarantees and the GPU side and the dipole
+ * rely on is checked again (the comparisons are written so that NaN fails them); a value the parser
+ * refuses would otherwise reach the plan as inf or NaN (g = 1: sigma_s infinite; fov 0: 1 / tan 0). */
 static lucent_status check_scene(const lucent_scene *s, lucent_error *err)
 {
     if (s->width < 1 || s->height < 1 || s->width > LUCENT_MAX_IMAGE_SIDE || s->height > LUCENT_MAX_IMAGE_SIDE)
@@ -102,9 +149,16 @@ static lucent_status check_scene(const lucent_scene *s, lucent_error *err)
     if (s->scale_mm != 0.0 && !(s->scale_mm >= LUCENT_MIN_SCALE_MM && s->scale_mm <= LUCENT_MAX_SCALE_MM))
         return lucent_fail(err, LUCENT_E_LIMIT, "scale_mm", "must be 0 (automatic) or %g..%g", LUCENT_MIN_SCALE_MM,
                            LUCENT_MAX_SCALE_MM);
+    if (!(m->g >= -LUCENT_MAX_G && m->g <= LUCENT_MAX_G))
+        return lucent_fail(err, LUCENT_E_LIMIT, "material.g", "must be %g..%g", -LUCENT_MAX_G, LUCENT_MAX_G);
     if (s->light_count < 1 || s->light_count > LUCENT_MAX_LIGHTS)
         return lucent_fail(err, LUCENT_E_LIMIT, "lights", "must hold 1..%d lights", LUCENT_MAX_LIGHTS);
-    return LUCENT_OK;
+    for (int i = 0; i < s->light_count; i++) {
+        lucent_status st = check_light(&s->lights[i], i, err);
+        if (st != LUCENT_OK)
+            return st;
+    }
+    return check_camera(&s->camera, err);
 }
 
 uint64_t lucent_renderer_max_pixels(const lucent_renderer *r)
@@ -330,12 +384,14 @@ void lucent_render_cancel(lucent_renderer *r)
 
 int lucent_stats_json(const lucent_stats *s, char *buf, size_t cap)
 {
+    char device[2 * sizeof s->device];
+    json_escape(s->device, device, sizeof device);
     int n = snprintf(buf, cap,
                      "{\"device\":\"%s\",\"triangles\":%u,\"proxy_triangles\":%u,\"shadow_maps\":%d,\"views\":%d,"
                      "\"mesh_cache_bytes\":%llu,"
                      "\"ms\":{\"mesh_load\":%.3f,\"shadow\":%.3f,\"projection\":%.3f,\"gbuffer\":%.3f,"
                      "\"scatter\":%.3f,\"readback\":%.3f,\"total\":%.3f},\"modelled\":%s}",
-                     s->device, s->triangles, s->proxy_triangles, s->shadow_maps, s->views,
+                     device, s->triangles, s->proxy_triangles, s->shadow_maps, s->views,
                      (unsigned long long)s->mesh_cache_bytes, s->ms_mesh_load,
                      s->ms_shadow, s->ms_projection, s->ms_gbuffer, s->ms_scatter, s->ms_readback, s->ms_total,
                      s->modelled[0] ? s->modelled : "{}");

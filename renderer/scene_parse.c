@@ -36,12 +36,12 @@ static const range R_ETA = {LUCENT_MIN_ETA, LUCENT_MAX_ETA, 0,
                             "Fresnel fit goes negative"};
 /* Coordinates are bounded so that differences and squared lengths stay finite in double;
  * 1e15 scene units is far beyond what the float GPU pipeline can resolve anyway. */
-static const range R_COORD = {-1.0e15, 1.0e15, 0, NULL};
-static const range R_COLOR = {0.0, 1.0e6, 0, NULL};
+static const range R_COORD = {-LUCENT_MAX_COORD, LUCENT_MAX_COORD, 0, NULL};
+static const range R_COLOR = {0.0, LUCENT_MAX_COLOR, 0, NULL};
 static const range R_ALPHA = {0.0, 1.0, 0, NULL};
 static const range R_INTENSITY = {0.0, LUCENT_MAX_INTENSITY, 0, NULL};
 /* tan(fov/2) degenerates at 0 and 180 degrees; the ends are excluded. */
-static const range R_FOV_DEG = {1.0, 170.0, 1, NULL};
+static const range R_FOV_DEG = {LUCENT_MIN_FOV_DEG, LUCENT_MAX_FOV_DEG, 1, NULL};
 static const range R_EXPOSURE = {-LUCENT_MAX_EXPOSURE, LUCENT_MAX_EXPOSURE, 0, NULL};
 static const range R_SIDE = {1, LUCENT_MAX_IMAGE_SIDE, 0, NULL};
 static const range R_SAMPLES = {1, LUCENT_MAX_SAMPLES, 0, NULL};

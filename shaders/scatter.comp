@@ -87,8 +87,14 @@ vec3 surface_irradiance(int k, ivec2 t, vec3 n)
     return texelFetch(projection_images, ivec3(t, k), 0).rgb * max(view_score(k, n), MIN_AREA_COS);
 }
 
+// Beyond this distance (mm) R_d is 0 in fp32, and squares of it overflow: inf x 0 made NaN (a sphere
+// 1e12 units wide at 1e9 mm a unit, an extremes case).
+const float FAR_MM = 1e18;
+
 float dipole_rd(int c, float r)
 {
+    if (!(r < FAR_MM))
+        return 0.0;
     float zr = frame.z_r[c], zv = frame.z_v[c], s = frame.sigma_tr[c];
     float dr = sqrt(r * r + zr * zr), dv = sqrt(r * r + zv * zv);
     float real = zr * (s * dr + 1.0) * exp(-s * dr) / (dr * dr * dr);
@@ -117,6 +123,8 @@ vec3 dipole_rd3(float r)
 // dipole_rd_disc: alpha' / 2 sum over both sources of z e^(-sigma_tr d) / d).
 vec3 rd_disc_offset(float radius, float dz)
 {
+    radius = min(radius, FAR_MM);
+    dz = clamp(dz, -FAR_MM, FAR_MM);
     vec3 sum = vec3(0.0);
     float inner2 = dz * dz, outer2 = radius * radius + dz * dz;
     for (int c = 0; c < 3; c++) {

@@ -2,7 +2,10 @@
  * images, a uniform 20% gain, an error confined to the silhouette band, coverage differences; and the
  * frequency split (noise, low frequencies, mean ratio) on a smooth quadratic image, whose box means
  * are known in closed form, perturbed by a gain, a checkerboard and a linear ramp. */
+#include "json_text.h"
 #include "test_support.h"
+
+#include <jansson.h>
 
 #include <math.h>
 #include <stdio.h>
@@ -252,6 +255,19 @@ int main(void)
                    strstr(json, "\"interior_pixels\":") && strstr(json, "\"rel_l2\":"),
                "JSON has the old and the new keys: %s", json);
     check_frequencies();
+
+    /* A black reference makes the per-pixel relative measures 0/0: JSON has no NaN, so they print as null. */
+    for (int i = 0; i < W * H; i++)
+        ref.rgba[i * 4] = ref.rgba[i * 4 + 1] = ref.rgba[i * 4 + 2] = 0.0f;
+    lucent_image_compare(&test, &ref, &e, &err);
+    int written = lucent_image_error_json(&e, json, sizeof json);
+    json_t *parsed = written > 0 ? json_loads(json, 0, NULL) : NULL;
+    test_check(parsed && !isfinite(e.object.p99_rel) && json_is_null(json_object_get(parsed, "p99_rel")),
+               "black reference: p99 rel %g written as null, the JSON parses: %s", e.object.p99_rel, json);
+    json_decref(parsed);
+    char escaped[32];
+    json_escape("GPU \"x\"\\\n", escaped, sizeof escaped);   /* what a device name could hold (--stats) */
+    test_check(strcmp(escaped, "GPU \\\"x\\\"\\\\\\u000a") == 0, "JSON string escaped: %s", escaped);
 
     lucent_image small = {0};
     lucent_image_alloc(&small, 8, 8, 0, &err);

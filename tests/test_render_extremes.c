@@ -145,6 +145,12 @@ static const struct extreme cases[] = {
      .irradiance = 1.0, .allowance = 100.0, .measured = {0.348, 1.0, 0.28}},
     SPHERE_CASE(SPHERE_PLAIN, 1e-6, 0.0, 0.0352, 0.0383, 0.026),         /* coordinates around 1e-6 */
     SPHERE_CASE(SPHERE_PLAIN, 1.0, 1e6, 0.0406, 0.0462, 0.0338),           /* coordinates around 1e6 */
+    /* coordinates around 1e-20 (squared texel steps near fp32's smallest) */
+    {.fields = "\"scale_mm\":1e6," SIDE_LIGHT, .irradiance = 1.0, .measured = {0.0406, 0.0429, 0.0388},
+     .mesh = 1 + SPHERE_PLAIN, .mesh_radius = 1e-20, .mesh_offset = 0.0},
+    /* distances of 1e21 mm: their squares overflow fp32 (five was NaN in every pixel) */
+    {.fields = "\"scale_mm\":1e9," SIDE_LIGHT, .irradiance = 1.0, .measured = {0.0401, 0.0421, 0.0345},
+     .mesh = 1 + SPHERE_PLAIN, .mesh_radius = 1e12, .mesh_offset = 0.0},
     SPHERE_CASE(SPHERE_BROKEN, 1.0, 0.0, 0.0352, 0.0383, 0.026),         /* degenerate and duplicate faces */
     SPHERE_CASE(SPHERE_OPEN, 1.0, 0.0, 0.0346, 0.0389, 0.0258), /* open: half a sphere */
     SPHERE_CASE(SPHERE_INSIDE_OUT, 1.0, 0.0, 0.0352, 0.0383, 0.026),     /* every face wound inward */
@@ -289,6 +295,28 @@ static void check_hand_built(lucent_renderer *r)
     scene.material.eta = 0.5;
     st = lucent_render(r, &scene, &img, NULL, &err);
     test_check(st == LUCENT_E_LIMIT, "hand-built scene with eta 0.5 refused: [%s] %s", err.field, err.message);
+    /* what the parser refuses and the plan would turn into inf or NaN */
+    static const char *const what[] = {"g = 1", "fov 0", "light direction NaN", "light direction zero",
+                                       "point light at 1e300", "light colour inf", "intensity -1",
+                                       "camera position = target", "light type 7"};
+    for (int i = 0; i < (int)(sizeof what / sizeof what[0]); i++) {
+        lucent_scene_defaults(&scene);
+        scene.width = scene.height = 16;
+        lucent_light *l = &scene.lights[0];
+        switch (i) {
+        case 0: scene.material.g = 1.0; break;
+        case 1: scene.camera = (lucent_camera){.given = 1, .position = {0, 0, 5}, .up = {0, 1, 0}, .fov_deg = 0}; break;
+        case 2: l->direction[1] = NAN; break;
+        case 3: l->direction[0] = l->direction[1] = l->direction[2] = 0; break;
+        case 4: l->type = LUCENT_LIGHT_POINT, l->position[0] = 1e300; break;
+        case 5: l->color[2] = INFINITY; break;
+        case 6: l->intensity = -1; break;
+        case 7: scene.camera = (lucent_camera){.given = 1, .up = {0, 1, 0}, .fov_deg = 40}; break;
+        default: l->type = (lucent_light_type)7; break;
+        }
+        st = lucent_render(r, &scene, &img, NULL, &err);
+        test_check(st == LUCENT_E_LIMIT, "hand-built scene with %s refused: [%s] %s", what[i], err.field, err.message);
+    }
     lucent_image_free(&img);
 }
 
