@@ -11,7 +11,7 @@
 #include <strings.h>
 #include <unistd.h>
 
-enum opt_type { OPT_STR, OPT_INT, OPT_U64, OPT_U32, OPT_SECONDS, OPT_LOG };
+enum opt_type { OPT_STR, OPT_INT, OPT_U64, OPT_U32, OPT_REAL, OPT_LOG };
 
 struct option_def {
     const char *name;   /* flag --name; environment LUCENTD_NAME with '-' -> '_' */
@@ -37,10 +37,10 @@ static const struct option_def options[] = {
     {"max-triangles", NUM(OPT_U32, max_triangles), "2000000", 1000, 4000000, "largest mesh (builtin or uploaded)"},
     {"max-samples", NUM(OPT_INT, max_samples), "64", 1, 64, "largest samples per channel"},
     {"max-lights", NUM(OPT_INT, max_lights), "4", 1, 4, "most lights per scene"},
-    {"render-timeout", NUM(OPT_SECONDS, render_timeout_s), "60", 0.1, 86400, "seconds a render request may wait and run"},
+    {"render-timeout", NUM(OPT_REAL, render_timeout_s), "60", 0.1, 86400, "seconds a render request may wait and run"},
     {"max-connections", NUM(OPT_INT, max_connections), "256", 4, 60000, "open HTTP connections"},
     {"connection-timeout", NUM(OPT_INT, connection_timeout_s), "30", 1, 86400, "seconds an idle connection is kept"},
-    {"drain-timeout", NUM(OPT_SECONDS, drain_timeout_s), "30", 0, 86400, "on SIGTERM, seconds queued renders may take"},
+    {"drain-timeout", NUM(OPT_REAL, drain_timeout_s), "30", 0, 86400, "on SIGTERM, seconds queued renders may take"},
     {"store-dir", STR(store_dir), "lucent-store", 0, 0, "directory of the uploaded-mesh store (created if missing)"},
     {"store-bytes", NUM(OPT_U64, store_bytes), "1073741824", 0, 1e15, "byte budget of the mesh store"},
     {"import-tool", STR(import_tool), "", 0, 0, "mesh importer run in a sandbox (default: lucent-import next to lucentd)"},
@@ -56,6 +56,9 @@ static const struct option_def options[] = {
     {"cors-origins", STR(cors_origins), "", 0, 0, "comma-separated origins allowed by CORS, or *; empty: none"},
     {"token-file", STR(token_file), "", 0, 0, "file holding a bearer token required on all but /healthz, /readyz and the web page"},
     {"device", STR(device), "", 0, 0, "Vulkan device name substring (else $LUCENT_DEVICE, else automatic)"},
+    {"rate-limit", NUM(OPT_REAL, rate_limit), "0", 0, 1e6,
+     "requests a second per client address, averaged (0: no limit); more get 429 (routes open without a token, the probes and the web page, are exempt)"},
+    {"rate-burst", NUM(OPT_REAL, rate_burst), "20", 1, 1e6, "requests per client address at once under --rate-limit"},
 };
 #define OPTION_COUNT (sizeof options / sizeof options[0])
 
@@ -84,7 +87,7 @@ static int set_option(struct config *cfg, const struct option_def *o, const char
     char *end = NULL;
     errno = 0;
     double v = strtod(value, &end);
-    int integral = o->type != OPT_SECONDS;
+    int integral = o->type != OPT_REAL;
     if (errno || end == value || *end || !isfinite(v) || (integral && v != floor(v)) || v < o->lo || v > o->hi) {
         fprintf(stderr, "lucentd: %s %s: expected %s between %g and %g (got \"%s\")\n", origin, o->name,
                 integral ? "an integer" : "a number", o->lo, o->hi, value);

@@ -35,6 +35,8 @@ struct config {
     char cors_origins[1024];      /* comma-separated exact origins, or "*"; empty: no CORS headers */
     char token_file[512];         /* bearer token required when set */
     char device[128];             /* Vulkan device name substring; empty: automatic */
+    double rate_limit;            /* requests a second per client address; 0: no limit */
+    double rate_burst;            /* requests at once per client address */
 };
 
 /* Fills cfg from defaults, then LUCENTD_* environment variables, then argv flags (later wins).

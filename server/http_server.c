@@ -5,6 +5,7 @@
 #include "access_log.h"
 #include "metrics.h"
 #include "problem.h"
+#include "rate_limit.h"
 #include "render_queue.h"
 #include "routes.h"
 #include "server.h"
@@ -12,6 +13,7 @@
 
 #include <arpa/inet.h>
 #include <errno.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -107,8 +109,16 @@ enum MHD_Result http_send_error(struct request *req, const lucent_error *err)
         route_allow(req->route->methods, allow, sizeof allow);
         MHD_add_response_header(resp, MHD_HTTP_HEADER_ALLOW, allow);
     }
-    if (kind->http_status == MHD_HTTP_UNAUTHORIZED)
-        MHD_add_response_header(resp, MHD_HTTP_HEADER_WWW_AUTHENTICATE, "Bearer realm=\"lucentd\"");
+    if (kind->http_status == MHD_HTTP_TOO_MANY_REQUESTS) {
+        char secs[16];
+        snprintf(secs, sizeof secs, "%d", req->retry_after_s);
+        MHD_add_response_header(resp, MHD_HTTP_HEADER_RETRY_AFTER, secs);
+    }
+    if (kind->http_status == MHD_HTTP_UNAUTHORIZED)   /* RFC 6750 3.1: error only when a token was sent */
+        MHD_add_response_header(resp, MHD_HTTP_HEADER_WWW_AUTHENTICATE,
+                                err->status == (lucent_status)PROBLEM_TOKEN_WRONG
+                                    ? "Bearer realm=\"lucentd\", error=\"invalid_token\""
+                                    : "Bearer realm=\"lucentd\"");
     req->bytes_out = len;
     return http_send(req, kind->http_status, resp);
 }
@@ -136,19 +146,32 @@ static unsigned method_bit(const char *m)
     return 0;
 }
 
-/* Compares in time independent of where the strings differ, so the token cannot be guessed byte by byte. */
-static int token_ok(struct request *req)
+/* 0 when the request carries the daemon's token, else PROBLEM_UNAUTHORIZED (none given) or
+ * PROBLEM_TOKEN_WRONG. Compares in time independent of where the strings differ, so the token cannot
+ * be guessed byte by byte. */
+static int token_problem(struct request *req)
 {
     const char *token = req->srv->token;
     const char *auth = http_header(req, MHD_HTTP_HEADER_AUTHORIZATION);
     if (!auth || strncasecmp(auth, "Bearer ", 7) != 0)
-        return 0;
+        return PROBLEM_UNAUTHORIZED;
     const char *given = auth + 7;
     size_t n = strlen(token), m = strlen(given);
     unsigned char diff = (unsigned char)(n != m);
     for (size_t i = 0; i < n; i++)
         diff |= (unsigned char)(token[i] ^ (i < m ? given[i] : 0));
-    return diff == 0;
+    return diff == 0 ? 0 : PROBLEM_TOKEN_WRONG;
+}
+
+/* Seconds (rounded up, at least 1) until this client may send again under --rate-limit; 0: now. Routes
+ * open without a token (probes, the web page's files) are not limited. */
+static int rate_limited(struct request *req)
+{
+    if (!req->srv->rate_limit || req->route->open)
+        return 0;
+    const union MHD_ConnectionInfo *info = MHD_get_connection_info(req->connection, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
+    double wait = rate_limit_take(req->srv->rate_limit, info ? info->client_addr : NULL, monotonic_seconds());
+    return wait > 0.0 ? (int)ceil(wait) : 0;
 }
 
 static enum MHD_Result preflight(struct request *req)
@@ -193,9 +216,15 @@ static enum MHD_Result first_call(struct request *req, int *answered)
         return preflight(req);
     if (!(req->route->methods & req->method_bit))
         return http_send_problem(req, PROBLEM_METHOD, NULL, "%s does not accept %s", req->route->path, req->method);
-    if (!req->route->open && req->srv->token[0] && !token_ok(req))
-        return http_send_problem(req, PROBLEM_UNAUTHORIZED, "Authorization",
-                                 "send the daemon's token as \"Authorization: Bearer TOKEN\"");
+    if ((req->retry_after_s = rate_limited(req)) > 0)
+        return http_send_problem(req, PROBLEM_RATE_LIMITED, NULL, "this client is over %g requests a second "
+                                 "(bursts of %g); retry in %d s", req->srv->cfg.rate_limit, req->srv->cfg.rate_burst,
+                                 req->retry_after_s);
+    int token = !req->route->open && req->srv->token[0] ? token_problem(req) : 0;
+    if (token)
+        return http_send_problem(req, token, "Authorization", token == PROBLEM_UNAUTHORIZED
+                                 ? "send the daemon's token as \"Authorization: Bearer TOKEN\""
+                                 : "the bearer token given is not this daemon's");
     const char *cl = http_header(req, MHD_HTTP_HEADER_CONTENT_LENGTH);
     uint64_t max = req->srv->cfg.max_body_bytes;
     if (cl) {

@@ -33,6 +33,7 @@ struct request {
     size_t bytes_out;
     double queue_ms, render_ms, encode_ms;
     const char *cache;            /* "hit" or "miss" for renders, else "-" */
+    int retry_after_s;            /* for a 429: seconds until this client's next request may pass */
 };
 
 /* Starts listening on cfg.listen:cfg.port; *port receives the bound port. NULL on failure (err). */

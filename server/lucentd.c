@@ -6,6 +6,7 @@
 #include "image_cache.h"
 #include "mesh_store.h"
 #include "metrics.h"
+#include "rate_limit.h"
 #include "render_queue.h"
 #include "routes.h"
 #include "server.h"
@@ -112,7 +113,8 @@ int main(int argc, char **argv)
     struct MHD_Daemon *d = NULL;
     srv.metrics = metrics_create(route_labels, route_label_count);
     srv.cache = image_cache_create(srv.cfg.cache_bytes);
-    if (!srv.metrics || !srv.cache) {
+    srv.rate_limit = srv.cfg.rate_limit > 0 ? rate_limit_new(srv.cfg.rate_limit, srv.cfg.rate_burst) : NULL;
+    if (!srv.metrics || !srv.cache || (srv.cfg.rate_limit > 0 && !srv.rate_limit)) {
         log_line(LOG_ERROR, "out of memory at start-up");
         goto done;
     }
@@ -177,6 +179,7 @@ done:
     mesh_store_close(srv.store);
     lucent_shutdown();
     image_cache_destroy(srv.cache);
+    rate_limit_free(srv.rate_limit);
     metrics_destroy(srv.metrics);
     return rc;
 }

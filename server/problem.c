@@ -24,6 +24,8 @@ static const struct problem_kind table[] = {
     {PROBLEM_METHOD, NULL, 405, "method-not-allowed", "Method not allowed"},
     {PROBLEM_NOT_ACCEPTABLE, NULL, 406, "not-acceptable", "No acceptable image type"},
     {PROBLEM_UNAUTHORIZED, NULL, 401, "unauthorized", "Bearer token required"},
+    {PROBLEM_TOKEN_WRONG, NULL, 401, "token-rejected", "Bearer token not accepted"},
+    {PROBLEM_RATE_LIMITED, NULL, 429, "rate-limited", "Too many requests"},
     {PROBLEM_QUEUE_FULL, NULL, 503, "queue-full", "Render queue full"},
     {PROBLEM_NOT_READY, NULL, 503, "not-ready", "Not ready"},
     {PROBLEM_DEADLINE, NULL, 503, "deadline", "Render deadline exceeded"},

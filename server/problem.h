@@ -10,7 +10,9 @@ enum {
     PROBLEM_NO_ROUTE = 100,     /* no such path */
     PROBLEM_METHOD,             /* path exists, method does not */
     PROBLEM_NOT_ACCEPTABLE,     /* Accept and format leave no image type */
-    PROBLEM_UNAUTHORIZED,       /* bearer token missing or wrong */
+    PROBLEM_UNAUTHORIZED,       /* bearer token missing */
+    PROBLEM_TOKEN_WRONG,        /* bearer token given, not the daemon's */
+    PROBLEM_RATE_LIMITED,       /* over --rate-limit; Retry-After from the request's bucket */
     PROBLEM_QUEUE_FULL,
     PROBLEM_NOT_READY,          /* starting or draining */
     PROBLEM_DEADLINE,           /* the render did not finish within render-timeout */

@@ -29,6 +29,7 @@ struct server {
     uint64_t max_pixels;   /* width x height the device can render, known once serving */
     atomic_uint_fast64_t next_request;
     long long started_at;  /* Unix time, part of request ids */
+    struct rate_limit *rate_limit;   /* NULL: --rate-limit 0 */
 };
 
 #endif

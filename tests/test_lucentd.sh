@@ -389,8 +389,11 @@ B_pid=$pid
 auth=(-H 'Authorization: Bearer s3cret-token')
 c=$(req "$work/e" GET "$B/v1/materials")
 check "401 without the token ($c), WWW-Authenticate: $(header "$work/e" WWW-Authenticate)" problem "$work/e" 401 Authorization
+missing_title=$(json_field "$work/e" '["title"]')
 c=$(req "$work/e" GET "$B/v1/materials" -H 'Authorization: Bearer wrong')
-check "401 with a wrong token ($c)" [ "$c" = 401 ]
+wrong_title=$(json_field "$work/e" '["title"]')
+check "401 with a wrong token ($c), titled apart from a missing one (\"$wrong_title\" / \"$missing_title\"), WWW-Authenticate: $(header "$work/e" WWW-Authenticate)" \
+    bash -c "[ '$c' = 401 -a '$wrong_title' != '$missing_title' ] && grep -qi '^www-authenticate: .*error=\"invalid_token\"' '$work/e.h'"
 c=$(req "$work/mat" GET "$B/v1/materials" "${auth[@]}")
 check "200 with the token ($c); /healthz needs none" [ "$c" = 200 -a "$(curl -s -o /dev/null -w '%{http_code}' "$B/healthz")" = 200 ]
 # A reference render with automatic points at 1024^2 would run for minutes (24 s at 384^2 on 2 cores; it
@@ -524,6 +527,23 @@ c=$(req "$work/h" GET "$C/healthz")
 check "the daemon lives on ($c) with no importer left running ($children children)" [ "$c" = 200 -a "$children" = 0 ]
 stop "$C_pid"; rc=$?
 check "C: exit 0 after a deadline and three failed imports ($rc)" [ "$rc" = 0 ]
+
+# ---- R: --rate-limit 0.5 a second, bursts of 3, per client: the fourth quick request gets 429 ----
+start R --store-dir "$work/storeR" --rate-limit 0.5 --rate-burst 3
+R=$base
+R_pid=$pid
+codes=
+for i in 1 2 3 4; do codes+=" $(req "$work/r$i" GET "$R/v1/materials")"; done
+retry=$(header "$work/r4" Retry-After)
+check "three requests pass, the fourth is 429 ($codes) of type $(problem_type "$work/r4") with Retry-After $retry (1-2 s)" \
+    bash -c "[ '$codes' = ' 200 200 200 429' ] && [ '$(problem_type "$work/r4")' = rate-limited ] && [ '${retry:-0}' -ge 1 -a '${retry:-0}' -le 2 ]"
+c=$(req "$work/h" GET "$R/healthz")
+check "the probes are not limited ($c)" [ "$c" = 200 ]
+sleep "${retry:-2}"
+c=$(req "$work/r5" GET "$R/v1/materials")
+check "after Retry-After the client passes again ($c)" [ "$c" = 200 ]
+stop "$R_pid"; rc=$?
+check "R: exit 0 ($rc)" [ "$rc" = 0 ]
 
 echo "whole test: $SECONDS s"
 echo "$passed passed, $failed failed"

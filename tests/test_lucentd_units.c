@@ -2,10 +2,14 @@
  * field, GET query fields build the same scene as the POST document, the error table, the image LRU. */
 #include "image_cache.h"
 #include "problem.h"
+#include "rate_limit.h"
 #include "scene_canonical.h"
 #include "scene_query.h"
 #include "test_support.h"
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -199,6 +203,7 @@ static void problem_table(void)
         {LUCENT_E_VULKAN, "", 500},             {LUCENT_E_INTERNAL, "", 500},
         {PROBLEM_NO_ROUTE, "", 404},            {PROBLEM_METHOD, "", 405},
         {PROBLEM_NOT_ACCEPTABLE, "Accept", 406}, {PROBLEM_UNAUTHORIZED, "", 401},
+        {PROBLEM_TOKEN_WRONG, "", 401},         {PROBLEM_RATE_LIMITED, "", 429},
         {PROBLEM_QUEUE_FULL, "", 503},          {PROBLEM_DEADLINE, "", 503},
         {PROBLEM_BODY_TOO_LARGE, "", 413},      {9999, "", 500},
     };
@@ -260,11 +265,40 @@ static void image_cache_lru(void)
     image_cache_destroy(c);
 }
 
+static struct sockaddr_in ipv4(uint32_t host)
+{
+    struct sockaddr_in a = {.sin_family = AF_INET};
+    a.sin_addr.s_addr = htonl(host);
+    return a;
+}
+
+/* Token buckets: a burst, then one request per 1/rate seconds; clients apart; the table bounded. */
+static void rate_limit_buckets(void)
+{
+    struct rate_limit *rl = rate_limit_new(2.0, 3.0);
+    struct sockaddr_in a = ipv4(0x7f000001), b = ipv4(0x7f000002);
+    const struct sockaddr *pa = (const struct sockaddr *)&a, *pb = (const struct sockaddr *)&b;
+    double w[6] = {rate_limit_take(rl, pa, 0.0), rate_limit_take(rl, pa, 0.0), rate_limit_take(rl, pa, 0.0),
+                   rate_limit_take(rl, pa, 0.0), rate_limit_take(rl, pb, 0.0), rate_limit_take(rl, pa, 0.5)};
+    test_check(w[0] == 0 && w[1] == 0 && w[2] == 0 && w[3] == 0.5 && w[4] == 0 && w[5] == 0,
+               "burst of 3 passes, the 4th waits %g s (0.5 at 2/s), another client passes (%g), and the first again "
+               "after 0.5 s (%g)", w[3], w[4], w[5]);
+    /* 100000 clients: each starts with a full bucket; the first, forgotten or not, is never over its rate */
+    int refused = 0;
+    for (uint32_t i = 0; i < 100000; i++) {
+        struct sockaddr_in c = ipv4(0x0a000000u + i);
+        refused += rate_limit_take(rl, (const struct sockaddr *)&c, 1.0) > 0;
+    }
+    test_check(refused == 0, "100000 clients at once in a fixed table: %d refused (want 0)", refused);
+    rate_limit_free(rl);
+}
+
 int main(void)
 {
     etags_cover_every_field();
     query_matches_document();
     problem_table();
     image_cache_lru();
+    rate_limit_buckets();
     return test_finish();
 }
