@@ -21,6 +21,7 @@ packages=(
   curl python3 wrk
   libssl-dev
   gnuplot-nox
+  clang libclang-rt-14-dev
   nodejs
   chromium
 )

@@ -8,6 +8,7 @@
 #include "rate_limit.h"
 #include "render_queue.h"
 #include "routes.h"
+#include "url_unescape.h"
 #include "server.h"
 #include "upload_queue.h"
 
@@ -354,31 +355,12 @@ static void mhd_log(void *cls, const char *fmt, va_list ap)
     log_line(LOG_WARN, "libmicrohttpd: %s", msg);
 }
 
-static int hex_digit(char c)
-{
-    return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
-}
-
-/* Percent-decoding of the path and of each query key and value, as libmicrohttpd's own except that %00
- * stays as sent: decoded, a NUL cut the string where lucentd reads it, so "w=16%00abc" rendered 16 wide
- * and ".../<id>%00.json" named <id>. Kept, every byte sent is part of what is validated (400 naming the
- * field, 404 for a path). Returns the decoded length. */
+/* libmicrohttpd's unescape callback: url_unescape (%00 kept as sent). */
 static size_t unescape_keeping_nul(void *cls, struct MHD_Connection *c, char *s)
 {
     (void)cls;
     (void)c;
-    char *out = s;
-    for (const char *in = s; *in;) {
-        int hi = in[0] == '%' ? hex_digit(in[1]) : -1, lo = hi >= 0 ? hex_digit(in[2]) : -1;
-        if (lo >= 0 && (hi | lo) != 0) {
-            *out++ = (char)(hi << 4 | lo);
-            in += 3;
-        } else {
-            *out++ = *in++;
-        }
-    }
-    *out = '\0';
-    return (size_t)(out - s);
+    return url_unescape(s);
 }
 
 struct MHD_Daemon *http_start(struct server *srv, uint16_t *port, lucent_error *err)
