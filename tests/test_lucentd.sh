@@ -528,10 +528,14 @@ check "the daemon lives on ($c) with no importer left running ($children childre
 stop "$C_pid"; rc=$?
 check "C: exit 0 after a deadline and three failed imports ($rc)" [ "$rc" = 0 ]
 
-# ---- R: --rate-limit 0.5 a second, bursts of 3, per client: the fourth quick request gets 429 ----
-start R --store-dir "$work/storeR" --rate-limit 0.5 --rate-burst 3
+# ---- R: --rate-limit 0.5 a second, bursts of 4, per client: after an upload, the fourth quick request gets
+# 429; and an importer that is not there: the upload is a 500 saying so, the daemon serves on ----
+start R --store-dir "$work/storeR" --rate-limit 0.5 --rate-burst 4 --import-tool "$work/no-such-importer"
 R=$base
 R_pid=$pid
+c=$(req "$work/e" POST "$R/v1/meshes" -H 'Content-Type: model/obj' --data-binary @"$tetra")
+check "a missing importer: upload 500 ($c) naming it: $(json_field "$work/e" '["detail"]' | cut -c1-70)" \
+    problem_with "$work/e" 500 "" 'could not start the mesh importer'
 codes=
 for i in 1 2 3 4; do codes+=" $(req "$work/r$i" GET "$R/v1/materials")"; done
 retry=$(header "$work/r4" Retry-After)
