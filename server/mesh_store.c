@@ -27,8 +27,14 @@ struct store_entry {
     uint64_t disk_bytes; /* both files */
 };
 
+/* Ids being imported now: a second put of the same bytes waits for the first instead of importing
+ * them again (uploads at once run at most --max-imports, 64; past this many puts import unguarded). */
+#define MAX_IMPORTING 64
+
 struct mesh_store {
     pthread_mutex_t lock;
+    pthread_cond_t imported;            /* an import of `importing` ended */
+    char importing[MAX_IMPORTING][ID_LEN + 1];
     char *dir, *import_tool;
     struct import_limits lim;
     uint64_t budget, used;
@@ -277,6 +283,7 @@ lucent_status mesh_store_open(const char *dir, uint64_t byte_budget, const char 
     if (!s)
         return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory opening the mesh store");
     pthread_mutex_init(&s->lock, NULL);
+    pthread_cond_init(&s->imported, NULL);
     s->budget = byte_budget;
     s->lim = *lim;
     s->dir = strdup(dir);
@@ -297,6 +304,7 @@ void mesh_store_close(struct mesh_store *s)
     if (!s)
         return;
     pthread_mutex_destroy(&s->lock);
+    pthread_cond_destroy(&s->imported);
     free(s->entries);
     free(s->dir);
     free(s->import_tool);
@@ -356,6 +364,15 @@ unlock:
     return st;
 }
 
+/* The slot of `importing` holding id ("" finds a free one), or -1. Called with the lock held. */
+static int importing_slot(const struct mesh_store *s, const char *id)
+{
+    for (int i = 0; i < MAX_IMPORTING; i++)
+        if (strcmp(s->importing[i], id) == 0)
+            return i;
+    return -1;
+}
+
 lucent_status mesh_store_put(struct mesh_store *s, const void *bytes, size_t len, const char *content_type,
                              char id_out[65], struct mesh_info *info, int *created, lucent_error *err)
 {
@@ -379,11 +396,17 @@ lucent_status mesh_store_put(struct mesh_store *s, const void *bytes, size_t len
         return st;
 
     pthread_mutex_lock(&s->lock);
-    const struct store_entry *existing = index_find(s, id_out);
+    const struct store_entry *existing;
+    int slot;
+    while (!(existing = index_find(s, id_out)) && importing_slot(s, id_out) >= 0)
+        pthread_cond_wait(&s->imported, &s->lock);
     if (existing)
         *info = existing->info;
     else if (s->used >= s->budget)
         st = over_budget(s, 0, err);
+    slot = existing || st != LUCENT_OK ? -1 : importing_slot(s, "");
+    if (slot >= 0)
+        memcpy(s->importing[slot], id_out, ID_LEN + 1);
     pthread_mutex_unlock(&s->lock);
     if (existing || st != LUCENT_OK)
         return st;
@@ -404,6 +427,12 @@ done:
         unlink(tmp_mesh);
     if (tmp_meta[0])
         unlink(tmp_meta);
+    if (slot >= 0) {
+        pthread_mutex_lock(&s->lock);
+        s->importing[slot][0] = '\0';
+        pthread_cond_broadcast(&s->imported);
+        pthread_mutex_unlock(&s->lock);
+    }
     return st;
 }
 

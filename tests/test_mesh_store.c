@@ -320,19 +320,43 @@ static int put_four(struct mesh_store *s, const char *const bytes[4], putter p[4
     return created;
 }
 
+/* Lines in a file (0 when it is missing). */
+static int count_lines(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    int n = 0, c;
+    while (f && (c = fgetc(f)) != EOF)
+        n += c == '\n';
+    if (f)
+        fclose(f);
+    return n;
+}
+
 static void check_concurrency(void)
 {
-    char dir[64];
+    char dir[64], tools[64];
     putter p[4];
     make_dir(dir);
+    make_dir(tools);
+    /* the importer behind a wrapper that counts its runs */
+    char wrapper[PATH_MAX], runs[PATH_MAX];
+    snprintf(wrapper, sizeof wrapper, "%s/count-import.sh", tools);
+    snprintf(runs, sizeof runs, "%s/import-runs", tools);
+    FILE *w = fopen(wrapper, "w");
+    fprintf(w, "#!/bin/sh\necho run >> '%s'\nexec '%s' \"$@\"\n", runs, import_tool);
+    fclose(w);
+    chmod(wrapper, 0755);
+    const char *real_tool = import_tool;
+    import_tool = wrapper;
     struct mesh_store *s = open_store(dir, 1 << 20);
+    import_tool = real_tool;
     const char *same[4] = {QUAD_OBJ, QUAD_OBJ, QUAD_OBJ, QUAD_OBJ};
     double t0 = seconds();
     int created = put_four(s, same, p);
     int same_id = strcmp(p[0].id, p[1].id) == 0 && strcmp(p[0].id, p[2].id) == 0 && strcmp(p[0].id, p[3].id) == 0;
-    test_check(created == 1 && same_id && count_files(dir, NULL) == 2,
-               "4 threads put the same bytes: %d created, one id, %d files (%.3f s)", created,
-               count_files(dir, NULL), seconds() - t0);
+    test_check(created == 1 && same_id && count_files(dir, NULL) == 2 && count_lines(runs) == 1,
+               "4 threads put the same bytes: %d created, one id, %d files, the importer run %d time(s) (%.3f s)",
+               created, count_files(dir, NULL), count_lines(runs), seconds() - t0);
     static const char a[] = "v 0 0 0\nv 2 0 0\nv 0 2 0\nf 1 2 3\n", b[] = "v 0 0 0\nv 3 0 0\nv 0 3 0\nf 1 2 3\n",
                       c[] = "v 0 0 0\nv 4 0 0\nv 0 4 0\nf 1 2 3\n";
     const char *distinct[4] = {a, b, c, QUAD_OBJ};
@@ -349,6 +373,7 @@ static void check_concurrency(void)
                (unsigned long long)mesh_store_bytes(s));
     mesh_store_close(s);
     remove_dir(dir);
+    remove_dir(tools);
 }
 
 int main(int argc, char **argv)
