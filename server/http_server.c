@@ -100,20 +100,19 @@ enum MHD_Result http_send_error(struct request *req, const lucent_error *err)
     }
     MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, "application/problem+json");
     MHD_add_response_header(resp, MHD_HTTP_HEADER_CACHE_CONTROL, "no-store");
-    if (kind->http_status == MHD_HTTP_SERVICE_UNAVAILABLE) {
+    /* A 503 names the configured wait; a 429, the time until this client's bucket holds a token. */
+    int retry = kind->http_status == MHD_HTTP_SERVICE_UNAVAILABLE ? req->srv->cfg.retry_after_s
+                : kind->http_status == MHD_HTTP_TOO_MANY_REQUESTS ? req->retry_after_s
+                                                                   : -1;
+    if (retry >= 0) {
         char secs[16];
-        snprintf(secs, sizeof secs, "%d", req->srv->cfg.retry_after_s);
+        snprintf(secs, sizeof secs, "%d", retry);
         MHD_add_response_header(resp, MHD_HTTP_HEADER_RETRY_AFTER, secs);
     }
     if (kind->http_status == MHD_HTTP_METHOD_NOT_ALLOWED && req->route) {
         char allow[64];
         route_allow(req->route->methods, allow, sizeof allow);
         MHD_add_response_header(resp, MHD_HTTP_HEADER_ALLOW, allow);
-    }
-    if (kind->http_status == MHD_HTTP_TOO_MANY_REQUESTS) {
-        char secs[16];
-        snprintf(secs, sizeof secs, "%d", req->retry_after_s);
-        MHD_add_response_header(resp, MHD_HTTP_HEADER_RETRY_AFTER, secs);
     }
     if (kind->http_status == MHD_HTTP_UNAUTHORIZED)   /* RFC 6750 3.1: error only when a token was sent */
         MHD_add_response_header(resp, MHD_HTTP_HEADER_WWW_AUTHENTICATE,

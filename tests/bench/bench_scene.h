@@ -7,6 +7,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
 
 struct mesh_case {
     const char *name;
@@ -51,6 +52,41 @@ static int bench_write_obj(const char *prefix, const char *name, const char *tex
         perror(path);
         return -1;
     }
+    return 0;
+}
+
+/* Opens PREFIX + suffix[i] for writing into files[i], i < n; -1 with the reason on stderr. */
+static int bench_open_files(const char *prefix, const char *const *suffix, FILE **files, int n)
+{
+    char path[4096];
+    for (int i = 0; i < n; i++) {
+        snprintf(path, sizeof path, "%s%s", prefix, suffix[i]);
+        if (!(files[i] = fopen(path, "w"))) {
+            perror(path);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* Closes every file opened (NULL: skipped); -1 if any failed to write or close. */
+static int bench_close_files(FILE *const *files, int n)
+{
+    int rc = 0;
+    for (int i = 0; i < n; i++)
+        if (files[i] && (ferror(files[i]) | fclose(files[i])))
+            rc = -1;
+    return rc;
+}
+
+/* -1 (with the path on stderr) when a mesh file's path does not fit a scene's mesh reference. */
+static int bench_paths_fit(const char *const *files, int n, const char *program)
+{
+    for (int i = 0; i < n; i++)
+        if (files[i] && strlen(files[i]) >= sizeof(((lucent_mesh_ref *)0)->file)) {
+            fprintf(stderr, "%s: mesh path too long: %s\n", program, files[i]);
+            return -1;
+        }
     return 0;
 }
 

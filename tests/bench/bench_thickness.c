@@ -470,15 +470,11 @@ static void write_report(const struct options *o, const struct result *res, cons
 static int open_outputs(const char *prefix, struct outputs *out)
 {
     static const char *const suffix[2] = {".csv", ".md"};
-    FILE **f[2] = {&out->csv, &out->md};
-    char path[4096];
-    for (int i = 0; i < 2; i++) {
-        snprintf(path, sizeof path, "%s%s", prefix, suffix[i]);
-        if (!(*f[i] = fopen(path, "w"))) {
-            perror(path);
-            return -1;
-        }
-    }
+    FILE *f[2] = {NULL, NULL};
+    int rc = bench_open_files(prefix, suffix, f, 2);
+    out->csv = f[0], out->md = f[1];
+    if (rc != 0)
+        return -1;
     fprintf(out->csv, "scene,light,material,size,image,pixels,coverage_mismatch,rel_l2,band_rel_l2,noise,"
                       "low_frequency_rel_l2,mean_ratio,ray_coverage_mismatch,term_share\n");
     return 0;
@@ -488,11 +484,7 @@ static int open_outputs(const char *prefix, struct outputs *out)
 static int close_outputs(struct outputs *out)
 {
     FILE *f[2] = {out->csv, out->md};
-    int rc = 0;
-    for (int i = 0; i < 2; i++)
-        if (f[i] && (ferror(f[i]) | fclose(f[i])))
-            rc = -1;
-    return rc;
+    return bench_close_files(f, 2);
 }
 
 /* Cases run mesh by mesh, so each mesh and its tree are built once. */
@@ -533,11 +525,8 @@ int main(int argc, char **argv)
     if (bench_write_obj(o.prefix, "slab", flat_slab_obj, o.slab_path, sizeof o.slab_path) != 0)
         return 2;
     o.mesh_file[MESH_SLAB] = o.slab_path;
-    for (int m = 0; m < MESH_COUNT; m++)
-        if (o.mesh_file[m] && strlen(o.mesh_file[m]) >= sizeof(((lucent_mesh_ref *)0)->file)) {
-            fprintf(stderr, "bench_thickness: mesh path too long: %s\n", o.mesh_file[m]);
-            return 2;
-        }
+    if (bench_paths_fit(o.mesh_file, MESH_COUNT, "bench_thickness") != 0)
+        return 2;
     struct outputs out = {0};
     struct result *res = calloc(CASES, sizeof *res);
     lucent_error err = {0};

@@ -480,15 +480,11 @@ static void write_report(const struct options *o, const struct result *res, cons
 static int open_outputs(const char *prefix, struct outputs *out)
 {
     static const char *const suffix[3] = {".csv", ".md", "_summary.tsv"};
-    FILE **f[3] = {&out->csv, &out->md, &out->tsv};
-    char path[4096];
-    for (int i = 0; i < 3; i++) {
-        snprintf(path, sizeof path, "%s%s", prefix, suffix[i]);
-        if (!(*f[i] = fopen(path, "w"))) {
-            perror(path);
-            return -1;
-        }
-    }
+    FILE *f[3] = {NULL, NULL, NULL};
+    int rc = bench_open_files(prefix, suffix, f, 3);
+    out->csv = f[0], out->md = f[1], out->tsv = f[2];
+    if (rc != 0)
+        return -1;
     fprintf(out->csv, "scene,light,material,size,mode,ms,ms_shadow,ms_projection,ms_gbuffer,ms_scatter,ms_readback,"
                       "pixels,coverage_mismatch,rel_l2,mean_abs,max_abs,p99_rel,share_over_10pct,band_pixels,"
                       "band_rel_l2,band_mean_abs,band_max_abs,band_p99_rel,band_share_over_10pct,mean_ratio,"
@@ -500,11 +496,7 @@ static int open_outputs(const char *prefix, struct outputs *out)
 static int close_outputs(struct outputs *out)
 {
     FILE *f[3] = {out->csv, out->md, out->tsv};
-    int rc = 0;
-    for (int i = 0; i < 3; i++)
-        if (f[i] && (ferror(f[i]) | fclose(f[i])))
-            rc = -1;
-    return rc;
+    return bench_close_files(f, 3);
 }
 
 static int run(lucent_renderer *r, const struct options *o, struct result *res, struct outputs *out)
@@ -523,17 +515,6 @@ static int run(lucent_renderer *r, const struct options *o, struct result *res, 
     return 0;
 }
 
-/* 0 when every mesh file's path fits the scene's mesh reference. */
-static int check_paths(const struct options *o)
-{
-    for (int m = 0; m < MESH_COUNT; m++)
-        if (o->mesh_file[m] && strlen(o->mesh_file[m]) >= sizeof(((lucent_mesh_ref *)0)->file)) {
-            fprintf(stderr, "bench_trade: mesh path too long: %s\n", o->mesh_file[m]);
-            return -1;
-        }
-    return 0;
-}
-
 int main(int argc, char **argv)
 {
     struct options o;
@@ -544,7 +525,7 @@ int main(int argc, char **argv)
         return 2;
     o.mesh_file[MESH_CUBE] = o.cube_path;
     o.mesh_file[MESH_SLAB] = o.slab_path;
-    if (check_paths(&o) != 0)
+    if (bench_paths_fit(o.mesh_file, MESH_COUNT, "bench_trade") != 0)
         return 2;
     struct outputs out = {0};
     struct result *res = calloc((size_t)o.size_count * CASES_PER_SIZE * MODES, sizeof *res);
