@@ -267,6 +267,7 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
     /* Projection and shadow views look from outside the bounding sphere: on a closed mesh their
      * back faces are always hidden. The camera may be inside. */
     int cull = gm->mesh->closed, cull_camera = cull && plan->camera_outside;
+    pipelines_begin_frame(gpu->pipes);
     st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_FRONT, s->light_count, plan->shadow_mask,
                               cull, &front, err);
     if (st == LUCENT_OK && five)

@@ -14,12 +14,13 @@ enum { TS_START, TS_SHADOW, TS_PROJECTION, TS_GBUFFER, TS_SCATTER, TS_COUNT };
 /* What recording touches; all of it owned by the renderer. */
 struct frame_gpu {
     struct vk_context *ctx;
-    struct pipelines *pipes;          /* variants are created here on first use */
+    struct pipelines *pipes;          /* variants are created here on first use, the least used evicted */
     const struct render_targets *targets;
     VkQueryPool queries;              /* VK_NULL_HANDLE: no timestamps */
 };
 
-/* Records into gpu->ctx->cmd (not submitted). */
+/* Records into gpu->ctx->cmd (not submitted). No earlier frame may still be executing: pipelines it
+ * used may be destroyed to make room for this frame's. */
 lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, const struct frame_plan *plan,
                            const struct gpu_mesh *gm, lucent_error *err);
 

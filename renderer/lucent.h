@@ -241,6 +241,8 @@ typedef struct lucent_stats {
     uint32_t triangles, proxy_triangles;
     int shadow_maps, views;
     uint64_t mesh_cache_bytes;  /* what the renderer's cached meshes hold after this frame */
+    uint64_t device_bytes;      /* device memory the renderer holds after this frame: cached meshes,
+                                 * the render targets of this frame's sizes, buffers */
     char device[256];
     char modelled[2048];
 } lucent_stats;

@@ -292,20 +292,24 @@ lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, 
     if (lights < 1 || lights > LUCENT_MAX_LIGHTS || shadow_mask >> lights)
         return lucent_fail(err, LUCENT_E_INTERNAL, "", "no projection pipeline for %d lights, mask 0x%x", lights,
                            (unsigned)shadow_mask);
-    size_t variant = ((size_t)cull * PROJECTION_PASSES + (size_t)which) * LUCENT_MAX_LIGHTS + (size_t)(lights - 1);
-    size_t slot = variant << LUCENT_MAX_LIGHTS | shadow_mask;
-    if (!p->projection[slot]) {
-        int32_t values[2] = {lights, (int32_t)shadow_mask};
-        VkSpecializationMapEntry entries[2] = {{0, 0, 4}, {1, 4, 4}};
-        VkSpecializationInfo spec = {2, entries, sizeof values, values};
-        struct raster_desc proj = {p->projection_pass[which], p->projection_layout, SHADER(projection_vert),
-                                   SHADER(projection_frag), &spec, 2, 1, cull};
-        lucent_status st = make_raster_pipeline(ctx, &proj, &p->projection[slot], err);
-        if (st != LUCENT_OK)
-            return st;
-    }
-    *out = p->projection[slot];
-    return LUCENT_OK;
+    uint64_t variant = ((uint64_t)cull * PROJECTION_PASSES + (uint64_t)which) * LUCENT_MAX_LIGHTS +
+                       (uint64_t)(lights - 1);
+    uint64_t key = variant << LUCENT_MAX_LIGHTS | shadow_mask;
+    if ((*out = pipeline_lru_find(&p->projection, key, p->frame)))
+        return LUCENT_OK;
+    int slot = pipeline_lru_make_room(&p->projection, ctx->device, p->frame);
+    if (slot < 0)
+        return lucent_fail(err, LUCENT_E_INTERNAL, "", "more than %d projection pipelines in one frame",
+                           PIPELINE_LRU_SLOTS);
+    int32_t values[2] = {lights, (int32_t)shadow_mask};
+    VkSpecializationMapEntry entries[2] = {{0, 0, 4}, {1, 4, 4}};
+    VkSpecializationInfo spec = {2, entries, sizeof values, values};
+    struct raster_desc proj = {p->projection_pass[which], p->projection_layout, SHADER(projection_vert),
+                               SHADER(projection_frag), &spec, 2, 1, cull};
+    lucent_status st = make_raster_pipeline(ctx, &proj, out, err);
+    if (st == LUCENT_OK)
+        pipeline_lru_put(&p->projection, slot, key, *out, p->frame);
+    return st;
 }
 
 lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, const struct scatter_variant *v,
@@ -319,20 +323,28 @@ lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, con
                            v->views, v->pass == SCATTER_COMPOSE ? "" : ", far pass");
     int shared = v->sampling == LUCENT_SAMPLING_SHARED, front = v->fallback == LUCENT_FALLBACK_FRONT;
     int single = v->single_scattering != 0;
-    size_t pass = (size_t)v->pass * 3 + (size_t)(v->block == 4 ? 2 : v->block - 1);
-    size_t slot = ((((pass * (LUCENT_MAX_SAMPLES + 1) + (size_t)v->samples) * VIEW_VARIANTS + (size_t)views) * 2 +
-                    (size_t)shared) * 2 + (size_t)front) * 2 + (size_t)single;
-    if (!p->scatter[slot]) {
-        int32_t values[7] = {v->samples, v->views, shared, front, single, v->pass, v->block};
-        VkSpecializationMapEntry entries[7] = {{0, 0, 4},  {1, 4, 4},  {2, 8, 4}, {3, 12, 4},
-                                               {4, 16, 4}, {5, 20, 4}, {6, 24, 4}};
-        VkSpecializationInfo spec = {7, entries, sizeof values, values};
-        lucent_status st = make_compute_pipeline(ctx, p, SHADER(scatter_comp), &spec, &p->scatter[slot], err);
-        if (st != LUCENT_OK)
-            return st;
-    }
-    *out = p->scatter[slot];
-    return LUCENT_OK;
+    uint64_t pass = (uint64_t)v->pass * 3 + (uint64_t)(v->block == 4 ? 2 : v->block - 1);
+    uint64_t key = ((((pass * (LUCENT_MAX_SAMPLES + 1) + (uint64_t)v->samples) * VIEW_VARIANTS + (uint64_t)views) * 2 +
+                     (uint64_t)shared) * 2 + (uint64_t)front) * 2 + (uint64_t)single;
+    if ((*out = pipeline_lru_find(&p->scatter, key, p->frame)))
+        return LUCENT_OK;
+    int slot = pipeline_lru_make_room(&p->scatter, ctx->device, p->frame);
+    if (slot < 0)
+        return lucent_fail(err, LUCENT_E_INTERNAL, "", "more than %d scatter pipelines in one frame",
+                           PIPELINE_LRU_SLOTS);
+    int32_t values[7] = {v->samples, v->views, shared, front, single, v->pass, v->block};
+    VkSpecializationMapEntry entries[7] = {{0, 0, 4},  {1, 4, 4},  {2, 8, 4}, {3, 12, 4},
+                                           {4, 16, 4}, {5, 20, 4}, {6, 24, 4}};
+    VkSpecializationInfo spec = {7, entries, sizeof values, values};
+    lucent_status st = make_compute_pipeline(ctx, p, SHADER(scatter_comp), &spec, out, err);
+    if (st == LUCENT_OK)
+        pipeline_lru_put(&p->scatter, slot, key, *out, p->frame);
+    return st;
+}
+
+void pipelines_begin_frame(struct pipelines *p)
+{
+    p->frame++;
 }
 
 void pipelines_destroy(struct vk_context *ctx, struct pipelines *p)
@@ -342,10 +354,8 @@ void pipelines_destroy(struct vk_context *ctx, struct pipelines *p)
         vkDestroyPipeline(d, p->shadow[cull], NULL);
         vkDestroyPipeline(d, p->gbuffer[cull], NULL);
     }
-    for (size_t i = 0; i < PROJECTION_VARIANTS; i++)
-        vkDestroyPipeline(d, p->projection[i], NULL);
-    for (size_t i = 0; i < SCATTER_VARIANTS; i++)
-        vkDestroyPipeline(d, p->scatter[i], NULL);
+    pipeline_lru_destroy(&p->projection, d);
+    pipeline_lru_destroy(&p->scatter, d);
     vkDestroyPipeline(d, p->ownership, NULL);
     VkPipelineLayout layouts[] = {p->shadow_layout, p->projection_layout, p->gbuffer_layout, p->scatter_layout};
     for (size_t i = 0; i < sizeof layouts / sizeof layouts[0]; i++)

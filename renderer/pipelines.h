@@ -4,6 +4,7 @@
 #define LUCENT_PIPELINES_H
 
 #include "frame_uniforms.h"
+#include "pipeline_lru.h"
 #include "vk_context.h"
 
 #define PROJECTION_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT  /* flux + depth: fp16 over/underflows */
@@ -20,9 +21,8 @@ enum { PROJECTION_FRONT = 0, PROJECTION_SIDES = 1, PROJECTION_LIGHTS = 2, PROJEC
 #define SIDE_VIEWS 4
 
 /* Projection pipelines are specialized by culling, front/sides, light count and which lights are
- * shadowed: CPU drivers pay for every branch, taken or not. Built on first use, kept with the
- * pipelines. */
-#define PROJECTION_VARIANTS (2 * PROJECTION_PASSES * LUCENT_MAX_LIGHTS * (1 << LUCENT_MAX_LIGHTS))
+ * shadowed: CPU drivers pay for every branch, taken or not. Built on first use, the most recently used
+ * PIPELINE_LRU_SLOTS kept (pipeline_lru.h). */
 /* Scatter pipelines likewise, by pass, block size, sample count (0: diffuse limit), view count,
  * sampling scheme, hidden-point fallback and single scattering. The passes, in order: the far annulus
  * per block, its filter over neighbouring blocks, and the compose pass per pixel (scatter.comp). */
@@ -41,7 +41,6 @@ struct scatter_variant {
 #define SCATTER_BINDINGS 12
 /* View counts: 1, or the five camera views plus 0..FRAME_LIGHT_VIEWS light views. */
 #define VIEW_VARIANTS (FRAME_LIGHT_VIEWS + 2)
-#define SCATTER_VARIANTS (3 * 3 * (LUCENT_MAX_SAMPLES + 1) * VIEW_VARIANTS * 2 * 2 * 2)
 
 struct pipelines {
     VkRenderPass shadow_pass;
@@ -51,8 +50,8 @@ struct pipelines {
     VkDescriptorSetLayout scatter_set_layout;
     VkPipelineLayout shadow_layout, projection_layout, gbuffer_layout, scatter_layout;
     VkPipeline shadow[2], gbuffer[2];   /* index: cull back faces (closed meshes) */
-    VkPipeline projection[PROJECTION_VARIANTS];
-    VkPipeline scatter[SCATTER_VARIANTS];
+    struct pipeline_lru projection, scatter;
+    uint64_t frame;             /* frames begun: a frame's own pipelines are never evicted under it */
     VkPipeline ownership;       /* each view's share of the surface, over the scatter set */
     VkSampler nearest;
     VkSampler filtered;         /* bilinear within a mip level, for the prefiltered projection images */
@@ -65,6 +64,9 @@ struct gbuffer_push {
 };
 
 lucent_status pipelines_create(struct vk_context *ctx, struct pipelines *p, lucent_error *err);
+/* Starts a frame's requests for pipelines. Pipelines requested by earlier frames may be destroyed from
+ * here on: call it only when no earlier frame is executing. */
+void pipelines_begin_frame(struct pipelines *p);
 /* The projection pipeline for `which` (PROJECTION_FRONT/SIDES/LIGHTS), 1..LUCENT_MAX_LIGHTS lights, a
  * shadow mask (bit l: light l is shadowed) and back-face culling, created on first use. */
 lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, int which, int lights,

@@ -373,6 +373,7 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
     stats->ms_readback = now_ms() - t1;
     stats->ms_total = now_ms() - t0;
     stats->mesh_cache_bytes = mesh_cache_bytes(&r->meshes);
+    stats->device_bytes = r->ctx.memory_bytes;
     describe(scene, s, chosen, plan, gm, stats);
     return LUCENT_OK;
 }
@@ -388,11 +389,11 @@ int lucent_stats_json(const lucent_stats *s, char *buf, size_t cap)
     json_escape(s->device, device, sizeof device);
     int n = snprintf(buf, cap,
                      "{\"device\":\"%s\",\"triangles\":%u,\"proxy_triangles\":%u,\"shadow_maps\":%d,\"views\":%d,"
-                     "\"mesh_cache_bytes\":%llu,"
+                     "\"mesh_cache_bytes\":%llu,\"device_bytes\":%llu,"
                      "\"ms\":{\"mesh_load\":%.3f,\"shadow\":%.3f,\"projection\":%.3f,\"gbuffer\":%.3f,"
                      "\"scatter\":%.3f,\"readback\":%.3f,\"total\":%.3f},\"modelled\":%s}",
                      device, s->triangles, s->proxy_triangles, s->shadow_maps, s->views,
-                     (unsigned long long)s->mesh_cache_bytes, s->ms_mesh_load,
+                     (unsigned long long)s->mesh_cache_bytes, (unsigned long long)s->device_bytes, s->ms_mesh_load,
                      s->ms_shadow, s->ms_projection, s->ms_gbuffer, s->ms_scatter, s->ms_readback, s->ms_total,
                      s->modelled[0] ? s->modelled : "{}");
     return n < 0 || (size_t)n >= cap ? -1 : n;

@@ -16,6 +16,7 @@ struct vk_context {
     VkCommandPool command_pool;
     VkCommandBuffer cmd;
     VkFence fence;
+    uint64_t memory_bytes;    /* device memory allocated through vk_resources.h and not yet freed */
 };
 
 /* device_name (or $LUCENT_DEVICE) as for vk_device_acquire. */

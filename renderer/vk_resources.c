@@ -4,8 +4,10 @@
 
 #include <string.h>
 
+/* Counted in ctx->memory_bytes, which free_memory takes back. */
 static lucent_status allocate(struct vk_context *ctx, VkMemoryRequirements req,
-                              VkMemoryPropertyFlags want, VkDeviceMemory *out, lucent_error *err)
+                              VkMemoryPropertyFlags want, VkDeviceMemory *out, VkDeviceSize *bytes,
+                              lucent_error *err)
 {
     lucent_status st = LUCENT_OK;
     uint32_t type = vk_memory_type(ctx, req.memoryTypeBits, want);
@@ -14,8 +16,18 @@ static lucent_status allocate(struct vk_context *ctx, VkMemoryRequirements req,
     VkMemoryAllocateInfo mai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
                                 .allocationSize = req.size, .memoryTypeIndex = type};
     VK_TRY(vkAllocateMemory(ctx->device, &mai, NULL, out), err);
+    *bytes = req.size;
+    ctx->memory_bytes += req.size;
 fail:
     return st;
+}
+
+static void free_memory(struct vk_context *ctx, VkDeviceMemory memory, VkDeviceSize bytes)
+{
+    if (!memory)
+        return;
+    vkFreeMemory(ctx->device, memory, NULL);
+    ctx->memory_bytes -= bytes;
 }
 
 lucent_status vk_buffer_create(struct vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usage,
@@ -30,7 +42,7 @@ lucent_status vk_buffer_create(struct vk_context *ctx, VkDeviceSize size, VkBuff
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(ctx->device, out->buffer, &req);
     st = allocate(ctx, req, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-                  &out->memory, err);
+                  &out->memory, &out->bytes, err);
     if (st != LUCENT_OK)
         goto fail;
     VK_TRY(vkBindBufferMemory(ctx->device, out->buffer, out->memory, 0), err);
@@ -45,8 +57,7 @@ void vk_buffer_destroy(struct vk_context *ctx, struct vk_buffer *b)
 {
     if (b->buffer)
         vkDestroyBuffer(ctx->device, b->buffer, NULL);
-    if (b->memory)
-        vkFreeMemory(ctx->device, b->memory, NULL);
+    free_memory(ctx, b->memory, b->bytes);
     memset(b, 0, sizeof *b);
 }
 
@@ -95,7 +106,7 @@ lucent_status vk_image_create_mipped(struct vk_context *ctx, uint32_t width, uin
     VK_TRY(vkCreateImage(ctx->device, &ici, NULL, &out->image), err);
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(ctx->device, out->image, &req);
-    st = allocate(ctx, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, &out->memory, err);
+    st = allocate(ctx, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, &out->memory, &out->bytes, err);
     if (st != LUCENT_OK)
         goto fail;
     VK_TRY(vkBindImageMemory(ctx->device, out->image, out->memory, 0), err);
@@ -114,8 +125,7 @@ void vk_image_destroy(struct vk_context *ctx, struct vk_image *img)
         vkDestroyImageView(ctx->device, img->view, NULL);
     if (img->image)
         vkDestroyImage(ctx->device, img->image, NULL);
-    if (img->memory)
-        vkFreeMemory(ctx->device, img->memory, NULL);
+    free_memory(ctx, img->memory, img->bytes);
     memset(img, 0, sizeof *img);
 }
 

@@ -10,6 +10,7 @@ struct vk_buffer {
     VkDeviceMemory memory;
     void *mapped;             /* host-visible buffers stay mapped for their lifetime */
     VkDeviceSize size;
+    VkDeviceSize bytes;       /* of memory allocated */
 };
 
 struct vk_image {
@@ -18,6 +19,7 @@ struct vk_image {
     VkImageView view;         /* all layers and mip levels */
     VkFormat format;
     uint32_t width, height, layers, levels;
+    VkDeviceSize bytes;       /* of memory allocated */
 };
 
 /* Host-visible, coherent buffer, mapped. */

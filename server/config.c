@@ -37,6 +37,8 @@ static const struct option_def options[] = {
     {"max-triangles", NUM(OPT_U32, max_triangles), "2000000", 1000, 4000000, "largest mesh (builtin or uploaded)"},
     {"max-samples", NUM(OPT_INT, max_samples), "64", 1, 64, "largest samples per channel"},
     {"max-lights", NUM(OPT_INT, max_lights), "4", 1, 4, "most lights per scene"},
+    {"max-projection-size", NUM(OPT_INT, max_projection_size), "1024", 512, 2048,
+     "largest projection_size, at least the default 512 (render targets: about 330 bytes per texel squared)"},
     {"render-timeout", NUM(OPT_REAL, render_timeout_s), "60", 0.1, 86400, "seconds a render request may wait and run"},
     {"max-connections", NUM(OPT_INT, max_connections), "256", 4, 60000, "open HTTP connections"},
     {"connection-timeout", NUM(OPT_INT, connection_timeout_s), "30", 1, 86400, "seconds an idle connection is kept"},

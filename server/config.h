@@ -18,6 +18,7 @@ struct config {
     uint32_t max_triangles;       /* builtin tessellation and stored meshes */
     int max_samples;
     int max_lights;
+    int max_projection_size;
     double render_timeout_s;      /* from accepting the request to the image being ready */
     int max_connections;
     int connection_timeout_s;     /* idle connections (MHD); suspended ones use render_timeout_s */

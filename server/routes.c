@@ -218,6 +218,9 @@ static int check_limits(const struct server *srv, const lucent_scene *s, int que
     if (s->light_count > cfg->max_lights)
         return lucent_fail(err, LUCENT_E_LIMIT, "lights", "at most %d on this server (got %d)", cfg->max_lights,
                            s->light_count);
+    if (s->projection_size > cfg->max_projection_size)
+        return lucent_fail(err, LUCENT_E_LIMIT, "projection_size", "at most %d on this server (got %d)",
+                           cfg->max_projection_size, s->projection_size);
     if (s->mesh.source == LUCENT_MESH_BUILTIN && s->mesh.triangles > cfg->max_triangles)
         return lucent_fail(err, LUCENT_E_LIMIT, query ? "mesh_triangles" : "mesh.triangles",
                            "at most %u on this server (got %u)", cfg->max_triangles, s->mesh.triangles);

@@ -1,9 +1,16 @@
 # lucentd_harness.sh - shared by the shell tests that talk to a real lucentd (test_lucentd.sh, test_client.sh):
 # ok/bad/check bookkeeping, starting a daemon on a free loopback port, and decoding PNGs. Sourced; the
-# caller sets $lucentd (the binary), $work (a temp dir) and pids=() (killed by its cleanup trap).
+# caller sets $lucentd (the binary). $work is a temp dir and $pids the daemons, both gone at exit.
 passed=0
 failed=0
 harness_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+work=$(mktemp -d)
+pids=()
+cleanup() {
+    for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null; done
+    rm -rf "$work"
+}
+trap cleanup EXIT
 
 ok() { passed=$((passed + 1)); echo "ok   $1"; }
 bad() { failed=$((failed + 1)); echo "FAIL $1"; }

@@ -7,13 +7,6 @@ set -u
 lucentd=$1
 lucent=$2
 bunny=$3
-work=$(mktemp -d)
-pids=()
-cleanup() {
-    for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null; done
-    rm -rf "$work"
-}
-trap cleanup EXIT
 unset LUCENT_SERVER LUCENT_TOKEN_FILE
 
 source "$(dirname "$0")/lucentd_harness.sh"

@@ -7,13 +7,6 @@
 # outer limit, never on a fixed sleep.
 set -u
 lucentd=$1
-work=$(mktemp -d)
-pids=()
-cleanup() {
-    for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null; done
-    rm -rf "$work"
-}
-trap cleanup EXIT
 source "$(dirname "$0")/lucentd_harness.sh"
 
 # stop PID: SIGTERM, then the exit status (124 when it did not exit within 60 s).
@@ -481,7 +474,7 @@ exit 3
 EOF2
 chmod +x "$work/import_tool.sh"
 start C --store-dir "$work/storeC" --render-timeout 0.1 --retry-after 3 --max-width 4096 --max-height 4096 \
-    --max-samples 16 --max-lights 2 --cors-origins '*' --import-tool "$work/import_tool.sh" --import-wall 1 --log-level debug
+    --max-samples 16 --max-lights 2 --max-projection-size 512 --cors-origins '*' --import-tool "$work/import_tool.sh" --import-wall 1 --log-level debug
 C=$base
 C_pid=$pid
 c=$(req "$work/e" GET "$C/v1/render?w=4000&h=4000")
@@ -493,6 +486,9 @@ check "413 samples=17 over --max-samples 16 ($c): $(json_field "$work/e" '["deta
 c=$(req "$work/e" POST "$C/v1/render" -H 'Content-Type: application/json' \
     -d '{"width":64,"height":64,"lights":[{"direction":[-1,0,0]},{"direction":[0,-1,0]},{"direction":[0,0,-1]}]}')
 check "413 three lights over --max-lights 2 ($c): $(json_field "$work/e" '["detail"]')" problem "$work/e" 413 lights
+c=$(req "$work/e" GET "$C/v1/render?w=32&h=32&projection_size=1024")
+check "413 projection_size=1024 over --max-projection-size 512 ($c): $(json_field "$work/e" '["detail"]')" \
+    problem "$work/e" 413 projection_size
 c=$(req "$work/pf" OPTIONS "$C/v1/render" -H 'Origin: https://any.example' -H 'Access-Control-Request-Method: POST')
 check "--cors-origins '*': preflight from any origin 204 ($c), Allow-Origin $(header "$work/pf" Access-Control-Allow-Origin)" \
     [ "$c" = 204 -a "$(header "$work/pf" Access-Control-Allow-Origin)" = '*' ]
