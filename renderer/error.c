@@ -32,6 +32,7 @@ const char *lucent_status_name(lucent_status s)
     case LUCENT_E_VULKAN: return "vulkan";
     case LUCENT_E_INTERNAL: return "internal";
     case LUCENT_E_CANCELLED: return "cancelled";
+    case LUCENT_E_DEVICE_LOST: return "device-lost";
     }
     return "unknown";
 }

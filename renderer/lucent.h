@@ -19,7 +19,9 @@ typedef enum lucent_status {
     LUCENT_E_NOMEM,
     LUCENT_E_VULKAN,    /* the GPU side failed; the message says which call */
     LUCENT_E_INTERNAL,
-    LUCENT_E_CANCELLED  /* lucent_render_cancel() stopped the render */
+    LUCENT_E_CANCELLED, /* lucent_render_cancel() stopped the render */
+    LUCENT_E_DEVICE_LOST /* the GPU device was lost (driver reset, hang): this renderer refuses every
+                          * frame from now on; destroy it and create another (which gets a new device) */
 } lucent_status;
 
 /* What went wrong, in words a user can act on. `field` is a JSON path such as

@@ -65,7 +65,14 @@ void lucent_renderer_destroy(lucent_renderer *r)
 {
     if (!r)
         return;
-    /* Frames are synchronous: once lucent_render returned, the GPU holds none of our resources. */
+    /* Frames are synchronous: once lucent_render returned, the GPU holds none of our resources, unless
+     * its wait timed out. Work of a hung device may still write them: they are left, not freed. */
+    if (r->ctx.device && vk_context_settle(&r->ctx, NULL) == LUCENT_E_DEVICE_LOST && r->ctx.in_flight) {
+        fprintf(stderr, "lucent: device \"%s\" hung; its renderer's GPU memory is left allocated\n",
+                r->ctx.device_name);
+        free(r);
+        return;
+    }
     if (r->ctx.device) {
         mesh_cache_destroy(&r->ctx, &r->meshes);
         render_targets_destroy(&r->ctx, &r->targets);
@@ -337,8 +344,9 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
     struct gpu_mesh *gm;
     struct frame_plan *plan = &r->plan;
     lucent_status st;
+    /* A frame that timed out must finish before its meshes, targets or pipelines are touched. */
     if ((st = check_scene(scene, err)) || (st = check_device_limits(r, scene, err)) ||
-        (st = mesh_cache_get(&r->ctx, &r->meshes, &scene->mesh, &gm, &stats->ms_mesh_load, err)))
+        (st = vk_context_settle(&r->ctx, err)) || (st = mesh_cache_get(&r->ctx, &r->meshes, &scene->mesh, &gm, &stats->ms_mesh_load, err)))
         return st;
     if (scene->method == LUCENT_METHOD_REFERENCE) {
         st = render_reference(r, scene, gm, out, stats, err);
@@ -364,7 +372,10 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
         return st;
     memcpy(r->uniforms.mapped, &plan->uniforms, sizeof plan->uniforms);
     struct frame_gpu gpu = {&r->ctx, &r->pipes, &r->targets, r->queries};
-    if ((st = frame_record(&gpu, s, plan, gm, err)) || (st = vk_submit_and_wait(&r->ctx, err)))
+    if ((st = frame_record(&gpu, s, plan, gm, err)))
+        return st;
+    r->ctx.fault = gpu_fault_next_frame();
+    if ((st = vk_submit_and_wait(&r->ctx, err)))
         return st;
     read_pass_times(r, stats);
     double t1 = now_ms();

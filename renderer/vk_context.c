@@ -41,8 +41,9 @@ void vk_context_destroy(struct vk_context *ctx)
 {
     if (ctx->device) {
         if (ctx->fence) {
-            /* Other renderers may use the device: wait for our own work only. */
-            vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, UINT64_MAX);
+            /* Other renderers may use the device: wait for our own work only; a lost device has none. */
+            if (ctx->in_flight && !ctx->lost)
+                vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, VK_CONTEXT_WAIT_NS);
             vkDestroyFence(ctx->device, ctx->fence, NULL);
         }
         vkDestroyCommandPool(ctx->device, ctx->command_pool, NULL);
@@ -60,18 +61,59 @@ uint32_t vk_memory_type(const struct vk_context *ctx, uint32_t type_bits, VkMemo
     return UINT32_MAX;
 }
 
+static lucent_status lose(struct vk_context *ctx, const char *call, VkResult r, lucent_error *err)
+{
+    ctx->lost = 1;
+    vk_device_mark_lost(ctx->shared);
+    return lucent_fail(err, LUCENT_E_DEVICE_LOST, "", "device \"%s\" lost: %s returned %s", ctx->device_name, call,
+                       vk_result_name(r));
+}
+
+lucent_status vk_context_settle(struct vk_context *ctx, lucent_error *err)
+{
+    if (ctx->lost)
+        return lucent_fail(err, LUCENT_E_DEVICE_LOST, "", "device \"%s\" was lost; the renderer must be re-created",
+                           ctx->device_name);
+    if (!ctx->in_flight)
+        return LUCENT_OK;
+    VkResult r = vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, VK_CONTEXT_WAIT_NS);
+    if (r != VK_SUCCESS)
+        return lose(ctx, "vkWaitForFences on the frame that timed out", r, err);
+    ctx->in_flight = 0;
+    return LUCENT_OK;
+}
+
 lucent_status vk_submit_and_wait(struct vk_context *ctx, lucent_error *err)
 {
-    lucent_status st = LUCENT_OK;
+    lucent_status st = vk_context_settle(ctx, err);
+    if (st != LUCENT_OK)
+        return st;
+    enum gpu_fault fault = ctx->fault;
+    ctx->fault = GPU_FAULT_NONE;
     VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = 1,
                        .pCommandBuffers = &ctx->cmd};
     VK_TRY(vkResetFences(ctx->device, 1, &ctx->fence), err);
-    pthread_mutex_lock(&ctx->shared->queue_lock);
-    VkResult submitted = vkQueueSubmit(ctx->shared->queue, 1, &si, ctx->fence);
-    pthread_mutex_unlock(&ctx->shared->queue_lock);
-    VK_TRY(submitted, err);
-    /* A render that takes minutes means a lost device, not a slow one. */
-    VK_TRY(vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, 120ull * 1000000000ull), err);
+    VkResult submitted = fault == GPU_FAULT_SUBMIT ? VK_ERROR_OUT_OF_DEVICE_MEMORY
+                         : fault == GPU_FAULT_LOST ? VK_ERROR_DEVICE_LOST
+                                                   : VK_SUCCESS;
+    if (!fault || fault == GPU_FAULT_TIMEOUT) {
+        pthread_mutex_lock(&ctx->shared->queue_lock);
+        submitted = vkQueueSubmit(ctx->shared->queue, 1, &si, ctx->fence);
+        pthread_mutex_unlock(&ctx->shared->queue_lock);
+    }
+    if (submitted == VK_ERROR_DEVICE_LOST)
+        return lose(ctx, "vkQueueSubmit", submitted, err);
+    if (submitted != VK_SUCCESS)  /* nothing submitted: the fence stays unsignaled and nobody waits on it */
+        return lucent_fail(err, LUCENT_E_VULKAN, "", "vkQueueSubmit failed: %s", vk_result_name(submitted));
+    ctx->in_flight = 1;
+    VkResult waited = fault == GPU_FAULT_TIMEOUT ? VK_TIMEOUT
+                                                 : vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, VK_CONTEXT_WAIT_NS);
+    if (waited == VK_TIMEOUT)
+        return lucent_fail(err, LUCENT_E_VULKAN, "", "the frame did not finish within %d s on device \"%s\"",
+                           VK_CONTEXT_WAIT_S, ctx->device_name);
+    if (waited != VK_SUCCESS)
+        return lose(ctx, "vkWaitForFences", waited, err);
+    ctx->in_flight = 0;
 fail:
     return st;
 }

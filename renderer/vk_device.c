@@ -183,7 +183,7 @@ lucent_status vk_device_acquire(const char *request, int verbose, struct vk_devi
     pthread_mutex_lock(&registry_lock);
     struct vk_device *found = NULL, *free_slot = NULL;
     for (int i = 0; i < MAX_DEVICES; i++) {
-        if (registry[i].device && strcmp(registry[i].request, request) == 0)
+        if (registry[i].device && !registry[i].lost && strcmp(registry[i].request, request) == 0)
             found = &registry[i];
         else if (!registry[i].device && !free_slot)
             free_slot = &registry[i];
@@ -208,7 +208,15 @@ lucent_status vk_device_acquire(const char *request, int verbose, struct vk_devi
 void vk_device_release(struct vk_device *dev)
 {
     pthread_mutex_lock(&registry_lock);
-    dev->users--;
+    if (--dev->users == 0 && dev->lost)
+        destroy_device(dev);
+    pthread_mutex_unlock(&registry_lock);
+}
+
+void vk_device_mark_lost(struct vk_device *dev)
+{
+    pthread_mutex_lock(&registry_lock);
+    dev->lost = 1;
     pthread_mutex_unlock(&registry_lock);
 }
 

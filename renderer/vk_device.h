@@ -24,6 +24,7 @@ struct vk_device {
     uint32_t api_version;
     char request[128];           /* the device name asked for ("" = automatic) */
     int users;
+    int lost;                    /* no more renderers get it; destroyed when the last one releases it */
     pthread_mutex_t queue_lock;  /* vkQueueSubmit needs external synchronization */
 };
 
@@ -46,5 +47,7 @@ const char *vk_result_name(VkResult r);
  * (lavapipe); a non-empty request forces the first device whose name contains it. */
 lucent_status vk_device_acquire(const char *request, int verbose, struct vk_device **out, lucent_error *err);
 void vk_device_release(struct vk_device *dev);
+/* A device lost (or hung) is taken out of the registry: the next acquire for its request creates another. */
+void vk_device_mark_lost(struct vk_device *dev);
 
 #endif

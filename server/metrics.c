@@ -28,6 +28,7 @@ struct metrics {
     uint64_t *requests;  /* [route][status - STATUS_MIN] */
     struct histogram hist[HIST_COUNT][METHOD_COUNT];
     uint64_t cache_hits, cache_misses;
+    uint64_t devices_lost;
 };
 
 static const char *const hist_names[HIST_COUNT] = {"lucentd_queue_wait_seconds", "lucentd_render_seconds",
@@ -104,6 +105,13 @@ void metrics_cache(struct metrics *m, int hit)
     pthread_mutex_unlock(&m->lock);
 }
 
+void metrics_device_lost(struct metrics *m)
+{
+    pthread_mutex_lock(&m->lock);
+    m->devices_lost++;
+    pthread_mutex_unlock(&m->lock);
+}
+
 struct text {
     char *buf;
     size_t len, cap;
@@ -173,6 +181,9 @@ char *metrics_text(struct metrics *m, const struct metrics_gauges *g, size_t *le
             "# HELP lucentd_image_cache_misses_total Renders not in the image cache.\n"
             "# TYPE lucentd_image_cache_misses_total counter\nlucentd_image_cache_misses_total %llu\n",
         (unsigned long long)m->cache_hits, (unsigned long long)m->cache_misses);
+    add(&t, "# HELP lucentd_devices_lost_total GPU devices lost (the renderer was re-created on a new one).\n"
+            "# TYPE lucentd_devices_lost_total counter\nlucentd_devices_lost_total %llu\n",
+        (unsigned long long)m->devices_lost);
     add(&t, "# HELP lucentd_http_requests_total HTTP requests answered, by route and status.\n"
             "# TYPE lucentd_http_requests_total counter\n");
     for (int r = 0; r < m->route_count; r++)

@@ -18,6 +18,7 @@ void metrics_destroy(struct metrics *m);
 void metrics_request(struct metrics *m, int route, unsigned http_status);
 void metrics_observe(struct metrics *m, enum metric_histogram h, lucent_method method, double seconds);
 void metrics_cache(struct metrics *m, int hit);
+void metrics_device_lost(struct metrics *m);
 
 /* Values sampled when /metrics is scraped. */
 struct metrics_gauges {

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 struct render_queue {
     pthread_mutex_t lock;
@@ -23,6 +24,7 @@ struct render_queue {
     lucent_renderer *renderer;  /* the worker's, for lucent_render_cancel (thread-safe) */
     int closed, stop;
     int started;                /* 1 warm, -1 failed */
+    int recovering;             /* the device was lost; a new renderer is being made */
     lucent_error start_err;
     char device[256];
     char device_request[128];
@@ -89,7 +91,8 @@ static void remove_queued_locked(struct render_queue *q, struct render_job *job)
 
 /* Renders and encodes one job outside the lock. The result goes to the cache even when the request
  * already gave up: a retry of the same scene then finds it. */
-static void run_job(struct render_queue *q, lucent_renderer *r, struct render_job *job, double started)
+static lucent_status run_job(struct render_queue *q, lucent_renderer *r, struct render_job *job, double started,
+                             lucent_error *failure)
 {
     lucent_error err = {0};
     lucent_image img = {0};
@@ -116,6 +119,8 @@ static void run_job(struct render_queue *q, lucent_renderer *r, struct render_jo
              job->outcome == JOB_PENDING ? "" : " (the request had already given up)");
     pthread_mutex_lock(&q->lock);
     q->current = NULL;
+    if (st == LUCENT_E_DEVICE_LOST)
+        q->recovering = 1;  /* before the answer goes out: a client that reads it sees /readyz 503 */
     int mine = job->outcome == JOB_PENDING;
     if (mine) {
         job->stats = stats;
@@ -131,6 +136,8 @@ static void run_job(struct render_queue *q, lucent_renderer *r, struct render_jo
     free(bytes);
     if (mine)
         MHD_resume_connection(job->connection);
+    *failure = err;
+    return st;
 }
 
 /* A tiny frame of the default scene compiles the common pipelines before the daemon reports ready. */
@@ -149,14 +156,57 @@ static int warm_up(struct render_queue *q, lucent_renderer *r, lucent_error *err
     return st == LUCENT_OK ? 0 : -1;
 }
 
+static lucent_renderer *make_renderer(struct render_queue *q, lucent_error *err)
+{
+    lucent_renderer_desc desc = {.device_name = q->device_request[0] ? q->device_request : NULL, .verbose = 0,
+                                 .mesh_cache_bytes = q->mesh_cache_bytes};
+    lucent_renderer *r = lucent_renderer_create(&desc, err);
+    if (r && warm_up(q, r, err) != 0) {
+        lucent_renderer_destroy(r);
+        r = NULL;
+    }
+    return r;
+}
+
+/* The device was lost (a driver reset, a hang): the renderer goes, and a new one on a new device is
+ * made and warmed up, retried each second until it works or the daemon stops (NULL). Meanwhile renders
+ * are refused (503) and /readyz answers 503; queued renders wait for the new renderer. */
+static lucent_renderer *recover(struct render_queue *q, lucent_renderer *lost, const lucent_error *why)
+{
+    log_line(LOG_ERROR, "%s; re-creating the renderer", why->message);
+    metrics_device_lost(q->metrics);
+    pthread_mutex_lock(&q->lock);
+    q->renderer = NULL;
+    q->recovering = 1;
+    pthread_mutex_unlock(&q->lock);
+    lucent_renderer_destroy(lost);
+    for (;;) {
+        lucent_error err = {0};
+        lucent_renderer *r = make_renderer(q, &err);
+        pthread_mutex_lock(&q->lock);
+        int stop = q->stop;
+        if (r) {
+            q->renderer = r;
+            q->recovering = 0;
+        }
+        pthread_mutex_unlock(&q->lock);
+        if (r) {
+            log_line(LOG_INFO, "renderer re-created on device \"%s\"", q->device);
+            return r;
+        }
+        log_line(LOG_ERROR, "re-creating the renderer failed: %s%s", err.message, stop ? "" : "; retrying in 1 s");
+        if (stop)
+            return NULL;
+        sleep(1);
+    }
+}
+
 static void *worker(void *arg)
 {
     struct render_queue *q = arg;
     lucent_error err = {0};
-    lucent_renderer_desc desc = {.device_name = q->device_request[0] ? q->device_request : NULL, .verbose = 0,
-                                 .mesh_cache_bytes = q->mesh_cache_bytes};
-    lucent_renderer *r = lucent_renderer_create(&desc, &err);
-    int ok = r && warm_up(q, r, &err) == 0;
+    lucent_renderer *r = make_renderer(q, &err);
+    int ok = r != NULL;
     pthread_mutex_lock(&q->lock);
     q->renderer = ok ? r : NULL;
     q->started = ok ? 1 : -1;
@@ -175,8 +225,11 @@ static void *worker(void *arg)
         q->queued--;
         q->current = job; /* the queue's reference moves to the worker */
         pthread_mutex_unlock(&q->lock);
-        run_job(q, r, job, monotonic_seconds());
+        lucent_error failure = {0};
+        lucent_status st = run_job(q, r, job, monotonic_seconds(), &failure);
         render_job_release(q, job);
+        if (st == LUCENT_E_DEVICE_LOST && !(r = recover(q, r, &failure)))
+            ok = 0;
         pthread_mutex_lock(&q->lock);
     }
     q->renderer = NULL;
@@ -231,7 +284,7 @@ int render_queue_wait_ready(struct render_queue *q, char *device, size_t cap, ui
 int render_queue_submit(struct render_queue *q, struct render_job *job)
 {
     pthread_mutex_lock(&q->lock);
-    int full = q->closed || q->started <= 0 || q->queued + (q->current != NULL) >= q->capacity;
+    int full = q->closed || q->started <= 0 || q->recovering || q->queued + (q->current != NULL) >= q->capacity;
     if (!full) {
         job->refs++;
         job->submitted = monotonic_seconds();
@@ -297,6 +350,14 @@ void render_queue_close(struct render_queue *q)
     pthread_mutex_lock(&q->lock);
     q->closed = 1;
     pthread_mutex_unlock(&q->lock);
+}
+
+int render_queue_recovering(struct render_queue *q)
+{
+    pthread_mutex_lock(&q->lock);
+    int recovering = q->recovering;
+    pthread_mutex_unlock(&q->lock);
+    return recovering;
 }
 
 int render_queue_depth(struct render_queue *q, int *in_flight)

@@ -56,6 +56,8 @@ void render_queue_expire(struct render_queue *q, double now);
 void render_queue_cancel_all(struct render_queue *q);
 /* Stops accepting jobs; queued ones still run. */
 void render_queue_close(struct render_queue *q);
+/* 1 while the renderer is being re-created after its device was lost (submissions are refused). */
+int render_queue_recovering(struct render_queue *q);
 /* Jobs waiting or running; in_flight (may be NULL) gets the running count. */
 int render_queue_depth(struct render_queue *q, int *in_flight);
 /* Jobs not yet finished (resumed). */

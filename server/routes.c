@@ -428,6 +428,9 @@ static enum MHD_Result handle_render(struct request *req)
     job->deadline = monotonic_seconds() + srv->cfg.render_timeout_s;
     if (render_queue_submit(srv->queue, job) != 0) {
         render_job_release(srv->queue, job);
+        if (render_queue_recovering(srv->queue))
+            return http_send_problem(req, PROBLEM_NOT_READY, NULL,
+                                     "the GPU device was lost; the renderer is being re-created");
         return http_send_problem(req, PROBLEM_QUEUE_FULL, NULL, "%d renders are queued or running; retry later",
                                  srv->cfg.queue_length);
     }
@@ -463,10 +466,11 @@ static enum MHD_Result handle_readyz(struct request *req)
     struct server *srv = req->srv;
     int phase = atomic_load(&srv->phase);
     int depth = render_queue_depth(srv->queue, NULL);
-    const char *reason = phase == PHASE_STARTING   ? "starting"
-                         : phase == PHASE_DRAINING ? "draining"
-                         : depth >= srv->cfg.queue_length ? "queue full"
-                                                          : NULL;
+    const char *reason = phase == PHASE_STARTING                ? "starting"
+                         : phase == PHASE_DRAINING              ? "draining"
+                         : render_queue_recovering(srv->queue)  ? "recovering from a lost GPU device"
+                         : depth >= srv->cfg.queue_length       ? "queue full"
+                                                                : NULL;
     char secs[16];
     snprintf(secs, sizeof secs, "%d", srv->cfg.retry_after_s);
     if (reason)
@@ -482,7 +486,7 @@ static enum MHD_Result handle_metrics(struct request *req)
     struct server *srv = req->srv;
     struct metrics_gauges g = {.device = srv->device, .version = LUCENTD_VERSION};
     g.queue_depth = render_queue_depth(srv->queue, &g.in_flight);
-    g.ready = atomic_load(&srv->phase) == PHASE_SERVING;
+    g.ready = atomic_load(&srv->phase) == PHASE_SERVING && !render_queue_recovering(srv->queue);
     g.cache_bytes = image_cache_bytes(srv->cache);
     g.store_bytes = mesh_store_bytes(srv->store);
     size_t len = 0;

@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# test_lucentd_gpu_faults.sh - lucentd through GPU faults injected by a test build (LUCENT_FAULTS, see
+# renderer/gpu_faults.h): a lost device (503 with Retry-After, /readyz 503 while a new renderer is made,
+# renders refused meanwhile, then served again), a failed submit (500, the next frame fine) and a fence
+# that times out (500, the next frame waits for it and is correct). Usage: test_lucentd_gpu_faults.sh lucentd
+set -u
+lucentd=$1
+source "$(dirname "$0")/lucentd_harness.sh"
+
+req() {
+    local out=$1 url=$2
+    curl -s -o "$out" -D "$out.h" -w '%{http_code}' "$url"
+}
+header() { grep -i "^$2:" "$1.h" | head -1 | cut -d' ' -f2- | tr -d '\r'; }
+type_of() { python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["type"].rsplit(":", 1)[-1])' "$1" 2>/dev/null; }
+ready() { curl -s -o "$work/ready" -w '%{http_code}' "$base/readyz"; }
+render() { req "$work/$1.png" "$base/v1/render?w=64&h=64&preset=$1"; }
+
+# Frames count from 1 over the process, the warm-up first. Frame 3 is lost, and so is frame 4, the new
+# renderer's warm-up, so the re-creation is retried after a second (a window renders must be refused in).
+export LUCENT_FAULTS="lost@3,lost@4,submit@6,timeout@8"
+start F --store-dir "$work/store"
+
+c=$(render marble)
+check "frame 2 renders ($c)" [ "$c" = 200 ]
+c=$(render skin1)
+check "frame 3, device lost: 503 ($c) of type $(type_of "$work/skin1.png") with Retry-After $(header "$work/skin1.png" Retry-After)" \
+    [ "$c" = 503 -a "$(type_of "$work/skin1.png")" = device-lost -a -n "$(header "$work/skin1.png" Retry-After)" ]
+c=$(ready)
+check "/readyz right after it: $c $(cat "$work/ready")" grep -q '"recovering from a lost GPU device"' "$work/ready"
+c=$(render ketchup)
+check "a render while the renderer is re-created: $c of type $(type_of "$work/ketchup.png"), Retry-After $(header "$work/ketchup.png" Retry-After)" \
+    [ "$c" = 503 -a "$(type_of "$work/ketchup.png")" = not-ready -a -n "$(header "$work/ketchup.png" Retry-After)" ]
+t0=$(date +%s%N)
+for _ in $(seq 1 600); do [[ $(ready) == 200 ]] && break; sleep 0.1; done
+check "/readyz 200 again after $(( ($(date +%s%N) - t0) / 1000000 )) ms (the first re-creation lost too, retried)" [ "$(ready)" = 200 ]
+check "the log tells the loss, the failed retry and the new renderer" \
+    bash -c "grep -q 're-creating the renderer\$' '$log' && grep -q 'retrying in 1 s' '$log' && grep -q 'renderer re-created on device' '$log'"
+c=$(render apple)
+check "frame 6, submit fails: $c of type $(type_of "$work/apple.png")" [ "$c" = 500 -a "$(type_of "$work/apple.png")" = render-failed ]
+c=$(render cream)
+check "frame 7 renders ($c)" [ "$c" = 200 ]
+c=$(render potato)
+check "frame 8, fence wait times out: $c of type $(type_of "$work/potato.png")" [ "$c" = 500 -a "$(type_of "$work/potato.png")" = render-failed ]
+c=$(render skimmilk)
+check "frame 9 waits for frame 8's work first, then renders ($c)" [ "$c" = 200 ]
+check "the images rendered are whole" pngs "$work/marble.png:64:64" "$work/cream.png:64:64" "$work/skimmilk.png:64:64"
+lost=$(curl -s "$base/metrics" | awk '$1 == "lucentd_devices_lost_total" { print $2 }')
+check "lucentd_devices_lost_total $lost" [ "$lost" = 1 ]
+kill -TERM "$pid"; wait "$pid"; rc=$?
+check "SIGTERM: exit status $rc" [ "$rc" = 0 ]
+
+echo "$passed passed, $failed failed"
+[[ $failed == 0 ]]
