@@ -2,6 +2,7 @@
  * Callers write `return lucent_fail(err, LUCENT_E_INVALID, "width", "must be ...");`. */
 #include "lucent.h"
 
+#include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -33,6 +34,12 @@ const char *lucent_status_name(lucent_status s)
     case LUCENT_E_INTERNAL: return "internal";
     case LUCENT_E_CANCELLED: return "cancelled";
     case LUCENT_E_DEVICE_LOST: return "device-lost";
+    case LUCENT_E_NOSPACE: return "nospace";
     }
     return "unknown";
+}
+
+lucent_status lucent_io_status(int errnum)
+{
+    return errnum == ENOSPC || errnum == EDQUOT ? LUCENT_E_NOSPACE : LUCENT_E_IO;
 }

@@ -20,8 +20,9 @@ typedef enum lucent_status {
     LUCENT_E_VULKAN,    /* the GPU side failed; the message says which call */
     LUCENT_E_INTERNAL,
     LUCENT_E_CANCELLED, /* lucent_render_cancel() stopped the render */
-    LUCENT_E_DEVICE_LOST /* the GPU device was lost (driver reset, hang): this renderer refuses every
-                          * frame from now on; destroy it and create another (which gets a new device) */
+    LUCENT_E_DEVICE_LOST, /* the GPU device was lost (driver reset, hang): this renderer refuses every
+                           * frame from now on; destroy it and create another (which gets a new device) */
+    LUCENT_E_NOSPACE      /* a file system is full (ENOSPC, EDQUOT); what was there is intact */
 } lucent_status;
 
 /* What went wrong, in words a user can act on. `field` is a JSON path such as
@@ -40,6 +41,8 @@ lucent_status lucent_fail(lucent_error *err, lucent_status status, const char *f
 #endif
     ;
 const char *lucent_status_name(lucent_status s);
+/* The status of a failed file operation: LUCENT_E_NOSPACE for a full file system, else LUCENT_E_IO. */
+lucent_status lucent_io_status(int errnum);
 
 /* ---- Limits (documented in README; enforced by the scene parser) ---- */
 #define LUCENT_MAX_LIGHTS 4

@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <errno.h>
 #include <string.h>
 
 /* Arrays are written and read as they lie in memory. */
@@ -135,7 +136,8 @@ lucent_status mesh_compact_write(const struct lucent_mesh *m, FILE *f, lucent_er
              write_hashed(f, &c, m->indices, index_count * sizeof *m->indices);
     uint64_t sum = checksum_final(&c);
     if (!ok || fwrite(&sum, sizeof sum, 1, f) != 1 || fflush(f) != 0)
-        return lucent_fail(err, LUCENT_E_IO, "mesh.file", "could not write the compact mesh (disk full?)");
+        return lucent_fail(err, lucent_io_status(errno), "mesh.file", "could not write the compact mesh: %s",
+                           strerror(errno));
     return LUCENT_OK;
 }
 

@@ -4,6 +4,7 @@
 #include "mesh.h"
 #include "mesh_compact.h"
 
+#include <errno.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdio.h>
@@ -92,7 +93,7 @@ static lucent_status write_compact(const struct lucent_mesh *m, const char *path
         return lucent_fail(err, LUCENT_E_IO, "--out", "cannot create \"%s\"", path);
     lucent_status st = mesh_compact_write(m, f, err);
     if (fclose(f) != 0 && st == LUCENT_OK)
-        st = lucent_fail(err, LUCENT_E_IO, "--out", "could not write \"%s\"", path);
+        st = lucent_fail(err, lucent_io_status(errno), "--out", "could not write \"%s\": %s", path, strerror(errno));
     return st;
 }
 

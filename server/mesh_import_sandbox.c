@@ -251,8 +251,8 @@ static lucent_status parse_refusal(const transcript *t, const struct import_limi
     lucent_status status = LUCENT_OK;
     if (doc && json_unpack_ex(doc, &jerr, JSON_STRICT, "{s:s, s:s, s:s}", "status", &name, "field", &field,
                               "message", &message) == 0)
-        for (lucent_status s = LUCENT_E_INVALID; s <= LUCENT_E_INTERNAL; s++)
-            if (strcmp(name, lucent_status_name(s)) == 0)
+        for (lucent_status s = LUCENT_E_INVALID; s <= LUCENT_E_NOSPACE; s++)
+            if (s != LUCENT_E_CANCELLED && s != LUCENT_E_DEVICE_LOST && strcmp(name, lucent_status_name(s)) == 0)
                 status = s;
     lucent_status st;
     if (status == LUCENT_OK)

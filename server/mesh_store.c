@@ -163,7 +163,8 @@ static lucent_status make_temp(const struct mesh_store *s, char path[PATH_MAX], 
     *fd = mkstemp(path);
     if (*fd < 0) {
         path[0] = '\0';
-        return lucent_fail(err, LUCENT_E_IO, "", "cannot create a file in the mesh store: %s", strerror(errno));
+        return lucent_fail(err, lucent_io_status(errno), "", "cannot create a file in the mesh store: %s",
+                           strerror(errno));
     }
     return LUCENT_OK;
 }
@@ -175,7 +176,8 @@ static lucent_status write_all(int fd, const char *text, size_t len, lucent_erro
         if (n < 0 && errno == EINTR)
             continue;
         if (n <= 0)
-            return lucent_fail(err, LUCENT_E_IO, "", "could not write to the mesh store: %s", strerror(errno));
+            return lucent_fail(err, lucent_io_status(errno), "", "could not write to the mesh store: %s",
+                               strerror(errno));
         text += n;
         len -= (size_t)n;
     }
@@ -187,7 +189,8 @@ static lucent_status sync_file(int fd, uint64_t *size, lucent_error *err)
 {
     struct stat st;
     if (fsync(fd) != 0 || fstat(fd, &st) != 0)
-        return lucent_fail(err, LUCENT_E_IO, "", "could not flush the mesh store to disk: %s", strerror(errno));
+        return lucent_fail(err, lucent_io_status(errno), "", "could not flush the mesh store to disk: %s",
+                           strerror(errno));
     *size = (uint64_t)st.st_size;
     return LUCENT_OK;
 }
@@ -278,7 +281,12 @@ lucent_status mesh_store_open(const char *dir, uint64_t byte_budget, const char 
     if (strlen(dir) + NAME_SLACK >= PATH_MAX)
         return lucent_fail(err, LUCENT_E_INVALID, "", "the mesh store path is too long");
     if ((mkdir(dir, 0700) != 0 && errno != EEXIST) || stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
-        return lucent_fail(err, LUCENT_E_IO, "", "cannot use \"%s\" as the mesh store directory", dir);
+        return lucent_fail(err, LUCENT_E_IO, "", "cannot use \"%s\" as the mesh store directory: %s", dir,
+                           strerror(errno));
+    /* Uploads write here: a read-only store (a read-only mount, permissions) fails now, not at the first one. */
+    if (access(dir, W_OK | X_OK) != 0)
+        return lucent_fail(err, LUCENT_E_IO, "", "the mesh store directory \"%s\" is not writable: %s", dir,
+                           strerror(errno));
     struct mesh_store *s = calloc(1, sizeof *s);
     if (!s)
         return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory opening the mesh store");
@@ -345,12 +353,12 @@ static lucent_status commit(struct mesh_store *s, const char *id, char *tmp_mesh
     if ((st = index_reserve(s, err)) != LUCENT_OK)
         goto unlock;
     if (rename(tmp_mesh, mesh_path) != 0) {
-        st = lucent_fail(err, LUCENT_E_IO, "", "cannot store the mesh: %s", strerror(errno));
+        st = lucent_fail(err, lucent_io_status(errno), "", "cannot store the mesh: %s", strerror(errno));
         goto unlock;
     }
     tmp_mesh[0] = '\0';
     if (rename(tmp_meta, meta_path) != 0) {
-        st = lucent_fail(err, LUCENT_E_IO, "", "cannot store the mesh metadata: %s", strerror(errno));
+        st = lucent_fail(err, lucent_io_status(errno), "", "cannot store the mesh metadata: %s", strerror(errno));
         unlink(mesh_path);
         goto unlock;
     }

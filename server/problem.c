@@ -21,6 +21,7 @@ static const struct problem_kind table[] = {
     {LUCENT_E_INTERNAL, NULL, 500, "internal-error", "Internal error"},
     {LUCENT_E_CANCELLED, NULL, 503, "deadline", "Render deadline exceeded"},
     {LUCENT_E_DEVICE_LOST, NULL, 503, "device-lost", "GPU device lost"},
+    {LUCENT_E_NOSPACE, NULL, 507, "storage-full", "Insufficient storage"},
     {PROBLEM_NO_ROUTE, NULL, 404, "not-found", "Not found"},
     {PROBLEM_METHOD, NULL, 405, "method-not-allowed", "Method not allowed"},
     {PROBLEM_NOT_ACCEPTABLE, NULL, 406, "not-acceptable", "No acceptable image type"},

@@ -7,14 +7,9 @@ set -u
 lucentd=$1
 source "$(dirname "$0")/lucentd_harness.sh"
 
-req() {
-    local out=$1 url=$2
-    curl -s -o "$out" -D "$out.h" -w '%{http_code}' "$url"
-}
-header() { grep -i "^$2:" "$1.h" | head -1 | cut -d' ' -f2- | tr -d '\r'; }
-type_of() { python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["type"].rsplit(":", 1)[-1])' "$1" 2>/dev/null; }
+type_of() { problem_type "$1" 2>/dev/null; }
 ready() { curl -s -o "$work/ready" -w '%{http_code}' "$base/readyz"; }
-render() { req "$work/$1.png" "$base/v1/render?w=64&h=64&preset=$1"; }
+render() { req "$work/$1.png" GET "$base/v1/render?w=64&h=64&preset=$1"; }
 
 # Frames count from 1 over the process, the warm-up first. Frame 3 is lost, and so is frame 4, the new
 # renderer's warm-up, so the re-creation is retried after a second (a window renders must be refused in).
