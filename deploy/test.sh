@@ -1,9 +1,16 @@
 #!/usr/bin/env bash
-# The README's second command (and what .ci/run runs): install, build with warnings as errors,
-# and run every test with ctest.
+# The README's second command (and what .ci/run runs): install, build with warnings as errors and
+# faults injectable, and run every test with ctest; then build again with AddressSanitizer and
+# UndefinedBehaviorSanitizer and run every test that can run under them (tests/CMakeLists.txt).
 set -euo pipefail
 top=$(cd "$(dirname "$0")/.." && pwd)
 build=${LUCENT_BUILD_DIR:-$top/build}
 bash "$top/deploy/build.sh" -DLUCENT_WERROR=ON -DLUCENT_FAULT_INJECTION=ON
 cd "$build"
+ctest --output-on-failure --timeout 900 -j 1
+sanitized=$build-sanitize
+cmake -S "$top" -B "$sanitized" -DLUCENT_WERROR=ON -DLUCENT_FAULT_INJECTION=ON -DLUCENT_SANITIZE=ON \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo
+cmake --build "$sanitized" -j "$(nproc)"
+cd "$sanitized"
 ctest --output-on-failure --timeout 900 -j 1
