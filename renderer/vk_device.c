@@ -180,6 +180,11 @@ lucent_status vk_device_acquire(const char *request, int verbose, struct vk_devi
 {
     if (!request)
         request = "";
+    /* The registry compares requests in full: one it could not hold would never match, and each
+     * renderer would make a device of its own. */
+    if (strlen(request) >= sizeof registry[0].request)
+        return lucent_fail(err, LUCENT_E_LIMIT, "device", "a device name of at most %zu bytes (got %zu)",
+                           sizeof registry[0].request - 1, strlen(request));
     pthread_mutex_lock(&registry_lock);
     struct vk_device *found = NULL, *free_slot = NULL;
     for (int i = 0; i < MAX_DEVICES; i++) {

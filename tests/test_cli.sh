@@ -139,6 +139,8 @@ check "--device picks the device by name, over LUCENT_DEVICE" \
     eval 'LUCENT_DEVICE=no-such-gpu render "$five" -o "$dir/dev.png" --device llvmpipe --verbose &&
           grep -q "device \"llvmpipe" "$dir/err"'
 check "--device naming no device: exit 1" expect_exit 1 '"no-such-gpu"' "$five" -o "$dir/x.png" --device no-such-gpu
+check "--device longer than the device registry holds (200 bytes): exit 1" \
+    expect_exit 1 "at most 127 bytes" "$five" -o "$dir/x.png" --device "$(printf 'x%.0s' $(seq 1 200))"
 check "no arguments: usage, exit 2" expect_exit 2 "usage"
 check "unknown flag: exit 2" expect_exit 2 "unexpected argument" "$five" -o "$dir/x.png" --frobnicate
 check "output extension must be png or exr: exit 2" expect_exit 2 ".png or .exr" "$five" -o "$dir/x.jpg"
