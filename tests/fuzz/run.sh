@@ -4,7 +4,7 @@
 # dictionary, and prints per target the executions and what it found. Any crash, leak or sanitizer
 # report fails the run and leaves the input in OUT/crashes/TARGET/. CI runs it short (ctest "fuzz");
 # run it long by hand:  bash tests/fuzz/run.sh build/fuzz 600
-# usage: run.sh OUT_DIR SECONDS [TARGET...]     (targets: scene query sniff lmesh import)
+# usage: run.sh OUT_DIR SECONDS [TARGET...]     (targets: scene query sniff lmesh import image)
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 top=$(cd "$here/../.." && pwd)
@@ -15,32 +15,37 @@ fi
 out=$1 seconds=$2
 shift 2
 targets=("$@")
-((${#targets[@]})) || targets=(scene query sniff lmesh import)
+((${#targets[@]})) || targets=(scene query sniff lmesh import image)
 command -v clang >/dev/null || { echo "$0: clang not found (apt-get install clang libclang-rt-14-dev)" >&2; exit 2; }
 
 r=$top/renderer s=$top/server
 # Each target is fuzz_TARGET.c and these sources (.c as C11, .cpp as C++17), linked with clang++ (assimp
-# is C++) against its pkg-config packages.
+# and OpenImageIO are C++) against its pkg-config packages.
 declare -A sources=(
     [scene]="$r/scene_parse.c $r/material_presets.c $r/error.c"
     [query]="$s/scene_query.c $s/url_unescape.c $r/scene_parse.c $r/material_presets.c $r/error.c"
     [sniff]="$s/mesh_format_sniff.c"
     [lmesh]="$r/mesh_compact.c $r/mesh.c $r/mesh_closed.c $r/error.c"
     [import]="$r/mesh_import.c $r/mesh.c $r/mesh_closed.c $r/mesh_compact.c $r/error.c"
+    [image]="$r/image_io.cpp $r/image.c $r/image_compare.c $r/json_text.c $r/error.c"
 )
-declare -A packages=([import]="assimp jansson")
+declare -A packages=([import]="assimp jansson" [image]="OpenImageIO jansson")
 # libFuzzer flags beyond the common ones (later flags win). import: assimp's refusals are logged to
 # stderr, a line an input (-close_fd_mask=2 closes it; libFuzzer's and the sanitizers' reports still
-# print); -timeout=30 is lucentd's import-cpu.
+# print); -timeout=30 is lucentd's import-cpu. image: OpenImageIO and libpng print refusals too;
+# OpenEXR 3.1 allocates an attribute's declared size (up to 2 GiB) before reading it, and a 4096^2
+# reference with its AOVs takes 0.7 GB, so 4 GiB rather than 2.
 declare -A flags=(
     [import]="-close_fd_mask=2 -timeout=30"
+    [image]="-close_fd_mask=2 -rss_limit_mb=4096 -malloc_limit_mb=4096"
 )
-# Leaks inside assimp's readers, not Lucent's, are suppressed (import.lsan says which). The suppression
-# names a frame the default frame-pointer unwinder does not reach through a library built without
-# frame pointers, hence the slow unwinder.
+# Leaks inside assimp's readers and OpenImageIO, not Lucent's, are suppressed (import.lsan, image.lsan
+# say which). The suppressions name frames the default frame-pointer unwinder does not reach through
+# libraries built without frame pointers, hence the slow unwinder for those two.
 slow_unwind="ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}fast_unwind_on_malloc=0"
 declare -A environment=(
     [import]="$slow_unwind LSAN_OPTIONS=${LSAN_OPTIONS:+$LSAN_OPTIONS:}suppressions=$here/import.lsan"
+    [image]="$slow_unwind LSAN_OPTIONS=${LSAN_OPTIONS:+$LSAN_OPTIONS:}suppressions=$here/image.lsan"
 )
 common=(-g -O1 -fno-omit-frame-pointer -Wall -Wextra -Werror -fsanitize=fuzzer,address,undefined
         -fno-sanitize-recover=all -D_POSIX_C_SOURCE=200809L -I"$r" -I"$s")
