@@ -12,9 +12,10 @@
 
 /* The limits the sandbox puts on lucent-import (server/mesh_import_sandbox.c, lucentd's defaults in
  * server/config.c): --max-triangles (max-triangles, 2000000) is applied here as lucent_import.c applies
- * it. The rlimits are not set in-process: address space (import-memory-bytes, 2 GiB) is stood in for
- * by libFuzzer's -rss_limit_mb/-malloc_limit_mb and CPU time (import-cpu, 30 s) by -timeout, both given
- * by run.sh; file size, descriptors and core dumps do not apply (nothing is written or opened here). */
+ * it. The rlimits are not set in-process: address space (import-memory-bytes, 2 GiB) is stood in for by
+ * sandbox_new.cpp (operator new fails past 1 GiB live, so assimp sees bad_alloc as it does there) and
+ * libFuzzer's -rss_limit_mb, CPU time (import-cpu, 30 s) by -timeout, both given by run.sh; file size,
+ * descriptors and core dumps do not apply (nothing is written or opened here). */
 #define MAX_TRIANGLES 2000000u
 
 /* The first byte picks the format, the rest is the file. '0'..'4' (any byte, modulo 10): as is;
