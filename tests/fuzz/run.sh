@@ -42,10 +42,12 @@ declare -A flags=(
 # Leaks inside assimp's readers and OpenImageIO, not Lucent's, are suppressed (import.lsan, image.lsan
 # say which). The suppressions name frames the default frame-pointer unwinder does not reach through
 # libraries built without frame pointers, hence the slow unwinder for those two.
+# print_suppressions=0: else each suppressed leak check prints its table into the log.
 slow_unwind="ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}fast_unwind_on_malloc=0"
+suppress="LSAN_OPTIONS=${LSAN_OPTIONS:+$LSAN_OPTIONS:}print_suppressions=0:suppressions=$here"
 declare -A environment=(
-    [import]="$slow_unwind LSAN_OPTIONS=${LSAN_OPTIONS:+$LSAN_OPTIONS:}suppressions=$here/import.lsan"
-    [image]="$slow_unwind LSAN_OPTIONS=${LSAN_OPTIONS:+$LSAN_OPTIONS:}suppressions=$here/image.lsan"
+    [import]="$slow_unwind $suppress/import.lsan"
+    [image]="$slow_unwind $suppress/image.lsan"
 )
 common=(-g -O1 -fno-omit-frame-pointer -Wall -Wextra -Werror -fsanitize=fuzzer,address,undefined
         -fno-sanitize-recover=all -D_POSIX_C_SOURCE=200809L -I"$r" -I"$s")
