@@ -97,42 +97,70 @@ static int ply_token(const unsigned char **p, const unsigned char *end, const ch
     return 1;
 }
 
-/* The instance count assimp 5.2.5 (PlyParser.cpp, ParseElement) takes from a header line: after
- * "element", a known name and one blank precede the count, but an unknown name is itself read as
- * the count; digits, wrapping modulo 2^32 (strtoul10). 0 for other lines. */
-static uint32_t ply_declared_count(const unsigned char *p, const unsigned char *end)
+/* An element declared in a PLY header as assimp 5.2.5 reads it (PlyParser.cpp, ParseElement): after
+ * "element", a known name and one blank precede the count, but an unknown name is itself read as the
+ * count; digits, wrapping modulo 2^32 (strtoul10). Vertices and faces (tristrips fill the same faces)
+ * are what its loader builds the mesh from. */
+enum ply_kind { PLY_NONE, PLY_OTHER, PLY_VERTEX, PLY_FACE };
+
+typedef struct ply_element {
+    enum ply_kind kind;
+    uint32_t count;
+} ply_element;
+
+static ply_element ply_element_of(const unsigned char *p, const unsigned char *end)
 {
-    static const char *const known[] = {"vertex", "face", "tristrips", "edge", "material"};
+    static const struct {
+        const char *name;
+        enum ply_kind kind;
+    } known[] = {{"vertex", PLY_VERTEX}, {"face", PLY_FACE}, {"tristrips", PLY_FACE}, {"edge", PLY_OTHER},
+                 {"material", PLY_OTHER}};
+    ply_element e = {PLY_NONE, 0};
     p = skip_spaces(p, end);
     if (!ply_token(&p, end, "element"))
-        return 0;
+        return e;
+    e.kind = PLY_OTHER;
     p = skip_spaces(p, end);
-    for (size_t i = 0; i < sizeof known / sizeof known[0] && !ply_token(&p, end, known[i]); i++)
-        continue;
+    for (size_t i = 0; i < sizeof known / sizeof known[0]; i++)
+        if (ply_token(&p, end, known[i].name)) {
+            e.kind = known[i].kind;
+            break;
+        }
     p = skip_spaces(p, end);
-    uint32_t count = 0;
     for (; p < end && *p >= '0' && *p <= '9'; p++)
-        count = count * 10 + (uint32_t)(*p - '0');
-    return count;
+        e.count = e.count * 10 + (uint32_t)(*p - '0');
+    return e;
 }
 
-/* assimp sizes an element's instances by its declared count before reading any: a 187-byte PLY
- * declaring 80 million vertices cost lucent-import 1 GB and 8 CPU seconds, then crashed once the
- * sandbox's memory limit failed an allocation, and a count that wraps to 2^32 - 1 asks for 100 GB.
- * An instance takes at least a byte of data (unless its element has no properties: no use to a
- * mesh), so a header declaring more than the data holds is refused. The header ends at `body`. */
-static int ply_counts_fit(const unsigned char *data, size_t len, size_t body)
+/* What is wrong with a PLY header for assimp 5.2.5, or NULL:
+ * - no line of exactly "end_header": its parser loops forever;
+ * - a count beyond the data: it sizes an element's instances by the declared count before reading
+ *   any (a 187-byte PLY declaring 80 million vertices cost lucent-import 1 GB and 8 CPU seconds, then
+ *   crashed once the sandbox's memory limit failed an allocation; a count wrapping to 2^32 - 1 asks
+ *   for 100 GB). An instance takes at least a byte (unless its element has no properties: no use to a
+ *   mesh);
+ * - a second vertex or face element: its loader sizes the mesh's vertices and faces by the first and
+ *   writes the second's past them (a heap overflow in lucent-import). */
+static const char *ply_header_problem(const unsigned char *data, size_t len)
 {
-    const unsigned char *line = data, *end = data + body;
-    while (line < end) {
+    size_t body = ply_header_end(data, len);
+    if (!body)
+        return "is not closed by an end_header line";
+    unsigned vertex_elements = 0, face_elements = 0;
+    for (const unsigned char *line = data, *end = data + body; line < end;) {
         const unsigned char *eol = line;
         while (eol < end && !ply_line_end(*eol))
             eol++;
-        if (ply_declared_count(line, eol) > len - body)
-            return 0;
+        ply_element e = ply_element_of(line, eol);
+        if (e.count > len - body)
+            return "declares more elements than the data after it can hold";
+        vertex_elements += e.kind == PLY_VERTEX;
+        face_elements += e.kind == PLY_FACE;
+        if (vertex_elements > 1 || face_elements > 1)
+            return "declares a second vertex or face element";
         line = eol + 1;
     }
-    return 1;
+    return NULL;
 }
 
 static const char *ply_problem(const unsigned char *data, size_t len)
@@ -226,13 +254,9 @@ static lucent_status check_bytes(const mesh_format *format, const unsigned char 
                            "the %s data is %zu bytes; at most " MAX_MESH_BYTES_TEXT " are accepted",
                            format->label, len);
     /* whatever the declared format: content sniffing could still route PLY bytes to that reader */
-    size_t ply_body = starts_like_ply(data, len) ? ply_header_end(data, len) : 0;
-    if (starts_like_ply(data, len) && !ply_body)
-        return lucent_fail(err, LUCENT_E_MESH, "mesh.file",
-                           "the PLY header is not closed by an end_header line");
-    if (ply_body && !ply_counts_fit(data, len, ply_body))
-        return lucent_fail(err, LUCENT_E_MESH, "mesh.file",
-                           "the PLY header declares more elements than the data after it can hold");
+    const char *ply = starts_like_ply(data, len) ? ply_header_problem(data, len) : NULL;
+    if (ply)
+        return lucent_fail(err, LUCENT_E_MESH, "mesh.file", "the PLY header %s", ply);
     const char *problem = format->problem ? format->problem(data, len) : NULL;
     if (problem)
         return lucent_fail(err, LUCENT_E_MESH, "mesh.file", "the data is not a valid %s file: %s",
