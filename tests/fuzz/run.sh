@@ -49,6 +49,7 @@ declare -A environment=(
     [import]="$slow_unwind $suppress/import.lsan"
     [image]="$slow_unwind $suppress/image.lsan"
 )
+# shellcheck disable=SC2054  # the commas separate sanitizers, not array elements
 common=(-g -O1 -fno-omit-frame-pointer -Wall -Wextra -Werror -fsanitize=fuzzer,address,undefined
         -fno-sanitize-recover=all -D_POSIX_C_SOURCE=200809L -I"$r" -I"$s")
 mkdir -p "$out"
