@@ -2,6 +2,7 @@
  * temporary .png or .exr, read with lucent_image_load and compared; what loads must be a sane image. */
 #include "lucent.h"
 
+#include <fcntl.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdint.h>
@@ -11,34 +12,46 @@
 #include <unistd.h>
 
 /* lucent_image_load takes a path (OpenImageIO picks its reader from the extension, then from the
- * content), so each input is written to a file in a private directory removed at exit. */
-static char dir[64], png_path[96], exr_path[96];
+ * content): each input is written to $TMPDIR/fuzz_image.<pid>.png or .exr, created afresh (O_EXCL:
+ * never through a link left there) and removed once read, so only a crash leaves one behind, the
+ * crashing input. libFuzzer may end with _Exit, so nothing is left for atexit to remove. */
+static char png_path[128], exr_path[128];
 
 /* lucent_image_compare is linear in the pixels with no size-dependent branch beyond the image
  * edges, and a legitimate 4096 x 4096 reference takes seconds under the sanitizers, which would
  * read as a timeout: larger images are loaded and checked, not compared. */
 #define COMPARE_MAX_PIXELS (256 * 256)
 
-static void remove_files(void)
-{
-    unlink(png_path);
-    unlink(exr_path);
-    rmdir(dir);
-}
-
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
     (void)argc, (void)argv;
     const char *tmp = getenv("TMPDIR");
-    snprintf(dir, sizeof dir, "%s/fuzz_image.XXXXXX", tmp && *tmp && strlen(tmp) < 32 ? tmp : "/tmp");
-    if (!mkdtemp(dir)) {
-        perror("fuzz_image: mkdtemp");
+    if (!tmp || !*tmp || strlen(tmp) > 64)
+        tmp = "/tmp";
+    snprintf(png_path, sizeof png_path, "%s/fuzz_image.%ld.png", tmp, (long)getpid());
+    snprintf(exr_path, sizeof exr_path, "%s/fuzz_image.%ld.exr", tmp, (long)getpid());
+    return 0;
+}
+
+static void write_input(const char *path, const uint8_t *data, size_t len)
+{
+    unlink(path);
+    int fd = open(path, O_WRONLY | O_CREAT | O_EXCL, 0600);
+    if (fd < 0) {
+        perror(path);
         abort();
     }
-    snprintf(png_path, sizeof png_path, "%s/in.png", dir);
-    snprintf(exr_path, sizeof exr_path, "%s/in.exr", dir);
-    atexit(remove_files);
-    return 0;
+    while (len > 0) {
+        ssize_t n = write(fd, data, len);
+        if (n <= 0) {
+            perror(path);
+            abort();
+        }
+        data += n;
+        len -= (size_t)n;
+    }
+    if (close(fd) != 0)
+        abort();
 }
 
 static int starts_with(const uint8_t *data, size_t size, const char *magic, size_t len)
@@ -92,12 +105,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (size == 0)
         return 0;
     const char *path = data[0] & 1 ? exr_path : png_path;
-    FILE *f = fopen(path, "wb");
-    if (!f || fwrite(data + 1, 1, size - 1, f) != size - 1 || fclose(f) != 0)
-        abort();
+    write_input(path, data + 1, size - 1);
     lucent_image ref;
     lucent_error err = {0};
-    if (lucent_image_load(path, &ref, &err) != LUCENT_OK) {
+    lucent_status st = lucent_image_load(path, &ref, &err);
+    unlink(path);
+    if (st != LUCENT_OK) {
         if (ref.rgba || !err.message[0])
             abort();
         return 0;
