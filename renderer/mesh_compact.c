@@ -2,6 +2,7 @@
  * The reader treats the bytes as untrusted: every count, size, value and the checksum is checked. */
 #include "mesh_compact.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <errno.h>
@@ -18,8 +19,11 @@
 #define FLAG_CLOSED 2u
 /* mesh_finish drops unused vertices, so a triangle brings at most three */
 #define MAX_VERTICES (3 * (uint64_t)LUCENT_MAX_TRIANGLES)
-/* Vertices may lie past the radius by float rounding of their centred coordinates, no more. */
+/* Vertices may lie past the radius by float rounding of their centred coordinates, no more: relative
+ * for normal floats; below FLT_MIN floats are FLT_TRUE_MIN apart whatever their size, so a subnormal
+ * mesh's vertices may lie up to sqrt(3)/2 of that past (fuzz_import found one refused after import). */
 #define RADIUS_TOLERANCE 1e-5
+#define RADIUS_SLACK ((double)FLT_TRUE_MIN)
 #define NORMAL_TOLERANCE 1e-3
 
 /* ---- checksum ---- */
@@ -197,7 +201,7 @@ static lucent_status check_values(const struct lucent_mesh *m, lucent_error *err
             return lucent_fail(err, LUCENT_E_IO, "mesh.file",
                                "the compact mesh file is damaged: triangle %zu refers to vertex %u of %u",
                                i / 3, m->indices[i], m->vertex_count);
-    double reach = m->radius * (1 + RADIUS_TOLERANCE);
+    double reach = m->radius * (1 + RADIUS_TOLERANCE) + RADIUS_SLACK;
     for (size_t v = 0; v < m->vertex_count; v++) {
         const float *p = m->positions + 3 * v, *n = m->normals + 3 * v;
         double dist = sqrt((double)p[0] * p[0] + (double)p[1] * p[1] + (double)p[2] * p[2]);

@@ -56,9 +56,9 @@ static int starts_like_ply(const unsigned char *data, size_t len)
            (data[2] | 0x20) == 'y';
 }
 
-/* Whether a line starts with exactly "end_header" (the only spelling assimp's PLY parser stops
- * at). Without one that parser loops forever. */
-static int ply_header_terminated(const unsigned char *data, size_t len)
+/* Where the data begins after a line of exactly "end_header" (the only spelling assimp's PLY parser
+ * stops at), give or take that line's end; 0 when there is no such line: that parser loops forever. */
+static size_t ply_header_end(const unsigned char *data, size_t len)
 {
     static const char token[] = "\nend_header";
     const size_t n = sizeof token - 1;
@@ -67,16 +67,107 @@ static int ply_header_terminated(const unsigned char *data, size_t len)
         if (!(p = memchr(p, '\n', (size_t)(end - p))) || (size_t)(end - p) < n)
             return 0;
         if (memcmp(p, token, n) == 0)
-            return p + n == end || strchr(" \t\r\n", p[n]) != NULL;
+            return p + n == end || strchr(" \t\r\n", p[n]) != NULL ? (size_t)(p + n - data) : 0;
     }
     return 0;
+}
+
+/* assimp's line ends (ParsingUtils.h IsLineEnd) */
+static int ply_line_end(unsigned char c)
+{
+    return c == '\n' || c == '\r' || c == '\0' || c == '\f';
+}
+
+static const unsigned char *skip_spaces(const unsigned char *p, const unsigned char *end)
+{
+    while (p < end && (*p == ' ' || *p == '\t'))
+        p++;
+    return p;
+}
+
+/* Whether the line [*p, end) starts with token followed by a space, a tab or its end; if so *p moves
+ * past the token and that one character, as assimp's TokenMatch does. */
+static int ply_token(const unsigned char **p, const unsigned char *end, const char *token)
+{
+    size_t n = strlen(token);
+    if ((size_t)(end - *p) < n || memcmp(*p, token, n) != 0 ||
+        (*p + n < end && (*p)[n] != ' ' && (*p)[n] != '\t'))
+        return 0;
+    *p += *p + n < end ? n + 1 : n;
+    return 1;
+}
+
+/* An element declared in a PLY header as assimp 5.2.5 reads it (PlyParser.cpp, ParseElement): after
+ * "element", a known name and one blank precede the count, but an unknown name is itself read as the
+ * count; digits, wrapping modulo 2^32 (strtoul10). Vertices and faces (tristrips fill the same faces)
+ * are what its loader builds the mesh from. */
+enum ply_kind { PLY_NONE, PLY_OTHER, PLY_VERTEX, PLY_FACE };
+
+typedef struct ply_element {
+    enum ply_kind kind;
+    uint32_t count;
+} ply_element;
+
+static ply_element ply_element_of(const unsigned char *p, const unsigned char *end)
+{
+    static const struct {
+        const char *name;
+        enum ply_kind kind;
+    } known[] = {{"vertex", PLY_VERTEX}, {"face", PLY_FACE}, {"tristrips", PLY_FACE}, {"edge", PLY_OTHER},
+                 {"material", PLY_OTHER}};
+    ply_element e = {PLY_NONE, 0};
+    p = skip_spaces(p, end);
+    if (!ply_token(&p, end, "element"))
+        return e;
+    e.kind = PLY_OTHER;
+    p = skip_spaces(p, end);
+    for (size_t i = 0; i < sizeof known / sizeof known[0]; i++)
+        if (ply_token(&p, end, known[i].name)) {
+            e.kind = known[i].kind;
+            break;
+        }
+    p = skip_spaces(p, end);
+    for (; p < end && *p >= '0' && *p <= '9'; p++)
+        e.count = e.count * 10 + (uint32_t)(*p - '0');
+    return e;
+}
+
+/* What is wrong with a PLY header for assimp 5.2.5, or NULL:
+ * - no line of exactly "end_header": its parser loops forever;
+ * - a count beyond the data: it sizes an element's instances by the declared count before reading
+ *   any (a 187-byte PLY declaring 80 million vertices cost lucent-import 1 GB and 8 CPU seconds, then
+ *   crashed once the sandbox's memory limit failed an allocation; a count wrapping to 2^32 - 1 asks
+ *   for 100 GB). An instance takes at least a byte (unless its element has no properties: no use to a
+ *   mesh);
+ * - a second vertex or face element: its loader sizes the mesh's vertices and faces by the first and
+ *   writes the second's past them (a heap overflow in lucent-import). */
+static const char *ply_header_problem(const unsigned char *data, size_t len)
+{
+    size_t body = ply_header_end(data, len);
+    if (!body)
+        return "is not closed by an end_header line";
+    unsigned vertex_elements = 0, face_elements = 0;
+    for (const unsigned char *line = data, *end = data + body; line < end;) {
+        const unsigned char *eol = line;
+        while (eol < end && !ply_line_end(*eol))
+            eol++;
+        ply_element e = ply_element_of(line, eol);
+        if (e.count > len - body)
+            return "declares more elements than the data after it can hold";
+        vertex_elements += e.kind == PLY_VERTEX;
+        face_elements += e.kind == PLY_FACE;
+        if (vertex_elements > 1 || face_elements > 1)
+            return "declares a second vertex or face element";
+        line = eol + 1;
+    }
+    return NULL;
 }
 
 static const char *ply_problem(const unsigned char *data, size_t len)
 {
     if (!starts_like_ply(data, len) || len < 4 || (data[3] != '\n' && data[3] != '\r'))
         return "it does not start with a \"ply\" line";
-    return NULL; /* end_header is checked for every format, in check_bytes */
+    return NULL; /* the header is checked for every format, in check_bytes */
 }
 
 static int is_blank(unsigned char c)
@@ -163,9 +254,9 @@ static lucent_status check_bytes(const mesh_format *format, const unsigned char 
                            "the %s data is %zu bytes; at most " MAX_MESH_BYTES_TEXT " are accepted",
                            format->label, len);
     /* whatever the declared format: content sniffing could still route PLY bytes to that reader */
-    if (starts_like_ply(data, len) && !ply_header_terminated(data, len))
-        return lucent_fail(err, LUCENT_E_MESH, "mesh.file",
-                           "the PLY header is not closed by an end_header line");
+    const char *ply = starts_like_ply(data, len) ? ply_header_problem(data, len) : NULL;
+    if (ply)
+        return lucent_fail(err, LUCENT_E_MESH, "mesh.file", "the PLY header %s", ply);
     const char *problem = format->problem ? format->problem(data, len) : NULL;
     if (problem)
         return lucent_fail(err, LUCENT_E_MESH, "mesh.file", "the data is not a valid %s file: %s",

@@ -161,6 +161,13 @@ static void check_hostile(void)
     static const char ply_open[] = "ply\nformat ascii 1.0\n";
     expect_failure("PLY header without end_header (assimp loops forever)",
                    run(import_tool, &LIMITS, ply_open, strlen(ply_open), "ply"), LUCENT_E_MESH, "end_header");
+    /* before, at lucentd's default 2 GiB: 1 GB and 8 CPU seconds, then a crash */
+    static const char ply_bomb[] = "ply\nformat ascii 1.0\nelement vertex 80000000\nproperty float x\n"
+                                   "property float y\nproperty float z\nelement face 1\n"
+                                   "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    expect_failure("PLY declaring 80 million vertices in 187 bytes",
+                   run(import_tool, &LIMITS, ply_bomb, strlen(ply_bomb), "ply"), LUCENT_E_MESH,
+                   "declares more elements");
     static const char ply_cut[] = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                                   "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
                                   "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1";

@@ -9,6 +9,7 @@
 #include "mesh_compact.h"
 #include "test_support.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -107,6 +108,18 @@ static void check_round_trips(void)
     lucent_error err = {0};
     if (test_check(lucent_mesh_import_memory(quad, strlen(quad), "obj", &m, &err) == LUCENT_OK, "OBJ quad imports"))
         check_round_trip("OBJ quad", m);
+    lucent_mesh_free(m);
+    /* Coordinates of subnormal size (multiples of FLT_TRUE_MIN): centring rounds them by up to half that
+     * spacing, more than any relative tolerance allows, and the reader refused what lucent-import had
+     * written (found by fuzz_import; tests/fuzz/corpus/import/subnormal_extent.stl). */
+    const float u = FLT_TRUE_MIN, tiny[9] = {256 * u, 0, 7 * u, 0, 0, 0, 0, 0, 63 * u};
+    if (!(m = mesh_alloc(3, 1, 0)))
+        return (void)test_check(0, "out of memory");
+    memcpy(m->positions, tiny, sizeof tiny);
+    for (uint32_t k = 0; k < 3; k++)
+        m->indices[k] = k;
+    if (test_check(mesh_finish(m, &err) == LUCENT_OK, "a triangle of subnormal size finishes: %s", err.message))
+        check_round_trip("subnormal triangle", m);
     lucent_mesh_free(m);
 }
 

@@ -362,6 +362,46 @@ static void check_hostile_bytes(void)
         expect_memory_fails("PLY bytes without end_header", ply_open, strlen(ply_open), exts[i],
                             LUCENT_E_MESH);
 
+    /* counts the data cannot hold, which assimp allocates for before reading any (found by fuzz_import):
+     * 1000 vertices declared and 3 present imported before; 80 million cost lucent-import 1 GB and 8 s,
+     * then a crash; an unknown element name is read as the count, here 2^32 - 1 (100 GB asked for) */
+    static const char ply_overcount[] =
+        "ply\nformat ascii 1.0\nelement vertex 1000\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    static const char ply_wrapped[] = "ply\nformat ascii 1.0\nelement 4294967295 1\nproperty float x\n"
+                                      "end_header\n0 0 0\n1 0 0\n0 1 0\n";
+    for (size_t i = 0; i < 6; i++) {
+        const char *text = i < 5 ? ply_overcount : ply_wrapped, *ext = i < 5 ? exts[i] : "ply";
+        lucent_error err;
+        uint32_t triangles;
+        const char *wrong;
+        lucent_status st = import_bytes(text, strlen(text), ext, &err, &triangles, &wrong);
+        test_check(st == LUCENT_E_MESH && strstr(err.message, "declares more elements") && !wrong,
+                   "PLY declaring %s, more than its data holds (as %s): %s: %s",
+                   i < 5 ? "1000 vertices" : "2^32 - 1 instances", ext, lucent_status_name(st), err.message);
+    }
+
+    /* a second vertex or face element: assimp sizes the mesh by the first and writes the second past
+     * it, a heap overflow (found by fuzz_import against an ASan-built assimp); the faces one imported */
+    static const char ply_two_vertex[] =
+        "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+        "element vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\n"
+        "property list uchar int vertex_indices\nend_header\n0 0 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    static const char ply_two_face[] =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 1\nproperty list uchar int vertex_indices\nelement tristrips 2\n"
+        "property list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 2\n3 0 2 1\n";
+    for (size_t i = 0; i < 2; i++) {
+        const char *text = i ? ply_two_face : ply_two_vertex;
+        lucent_error err;
+        uint32_t triangles;
+        const char *wrong;
+        lucent_status st = import_bytes(text, strlen(text), "ply", &err, &triangles, &wrong);
+        test_check(st == LUCENT_E_MESH && strstr(err.message, "second vertex or face") && !wrong,
+                   "PLY with a second %s element: %s: %s", i ? "face (tristrips)" : "vertex", lucent_status_name(st),
+                   err.message);
+    }
+
     /* truncated in the vertex list: faces without indices abort assimp's triangulation */
     static const char ply_cut[] =
         "ply\nformat ascii 1.0\nelement vertex 8\nproperty float32 x\nproperty float32 y\n"
