@@ -56,6 +56,9 @@ static const struct option_def options[] = {
      "meshes kept loaded in the renderer (GPU buffers and CPU copies); a larger mesh gets 413"},
     {"log-level", NUM(OPT_LOG, log_level), "info", 0, 0, "error, warn, info (one line per request) or debug"},
     {"cors-origins", STR(cors_origins), "", 0, 0, "comma-separated origins allowed by CORS, or *; empty: none"},
+    {"allowed-hosts", STR(allowed_hosts), "", 0, 0,
+     "comma-separated Host names (no port) the API answers for, or *; empty: the loopback names when "
+     "listening on loopback, any otherwise"},
     {"token-file", STR(token_file), "", 0, 0, "file holding a bearer token required on all but /healthz, /readyz and the web page"},
     {"device", STR(device), "", 0, 0, "Vulkan device name substring (else $LUCENT_DEVICE, else automatic)"},
     {"rate-limit", NUM(OPT_REAL, rate_limit), "0", 0, 1e6,

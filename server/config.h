@@ -34,6 +34,7 @@ struct config {
     uint64_t mesh_cache_bytes;    /* meshes kept loaded in the renderer */
     enum log_level log_level;
     char cors_origins[1024];      /* comma-separated exact origins, or "*"; empty: no CORS headers */
+    char allowed_hosts[1024];     /* Host names the API answers for, or "*"; empty: loopback names on loopback */
     char token_file[512];         /* bearer token required when set */
     char device[128];             /* Vulkan device name substring; empty: automatic */
     double rate_limit;            /* requests a second per client address; 0: no limit */

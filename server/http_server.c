@@ -1,5 +1,5 @@
 /* http_server.c - libmicrohttpd set-up and the request life cycle: state per connection, checks before the
- * body (route, method, token, Content-Length), the capped body, dispatch, and logging and metrics at completion. */
+ * body (route, Host, method, Origin, token, length), the capped body, dispatch, logging and metrics. */
 #include "http_server.h"
 
 #include "access_log.h"
@@ -7,6 +7,7 @@
 #include "problem.h"
 #include "rate_limit.h"
 #include "render_queue.h"
+#include "request_origin.h"
 #include "routes.h"
 #include "url_unescape.h"
 #include "server.h"
@@ -38,21 +39,7 @@ static const char *cors_origin(struct request *req)
         return NULL;
     if (strcmp(list, "*") == 0)
         return "*";
-    size_t n = strlen(origin);
-    for (const char *p = list; *p;) {
-        size_t len = strcspn(p, ",");
-        while (len && *p == ' ')
-            p++, len--;
-        size_t trimmed = len;
-        while (trimmed && p[trimmed - 1] == ' ')
-            trimmed--;
-        if (trimmed == n && strncmp(p, origin, n) == 0)
-            return origin;
-        p += len;
-        if (*p == ',')
-            p++;
-    }
-    return NULL;
+    return list_has(list, origin, strlen(origin)) ? origin : NULL;
 }
 
 enum MHD_Result http_send(struct request *req, unsigned status, struct MHD_Response *resp)
@@ -212,6 +199,11 @@ static enum MHD_Result first_call(struct request *req, int *answered)
     *answered = 1;
     if (!req->route)
         return http_send_problem(req, PROBLEM_NO_ROUTE, NULL, "no resource at %s (see /openapi.json)", req->path);
+    /* Probes and the page's static files are open to any Host (kubelets probe by IP); the API is not. */
+    const char *host = http_header(req, MHD_HTTP_HEADER_HOST);
+    if (!req->route->open && !host_allowed(host, req->srv->cfg.allowed_hosts, req->srv->cfg.listen))
+        return http_send_problem(req, PROBLEM_HOST, "Host", "this daemon does not answer for the host \"%.64s\" "
+                                 "(--allowed-hosts)", host);
     if (req->method_bit == M_OPTIONS)
         return preflight(req);
     if (!(req->route->methods & req->method_bit))
@@ -220,6 +212,11 @@ static enum MHD_Result first_call(struct request *req, int *answered)
         return http_send_problem(req, PROBLEM_RATE_LIMITED, NULL, "this client is over %g requests a second "
                                  "(bursts of %g); retry in %d s", req->srv->cfg.rate_limit, req->srv->cfg.rate_burst,
                                  req->retry_after_s);
+    const char *origin = http_header(req, MHD_HTTP_HEADER_ORIGIN);
+    if ((req->method_bit == M_POST || req->method_bit == M_DELETE) &&
+        !origin_allowed(origin, host, req->srv->cfg.cors_origins))
+        return http_send_problem(req, PROBLEM_ORIGIN, "Origin", "requests from the page at \"%.64s\" may not "
+                                 "upload, delete or render here (--cors-origins)", origin);
     int token = !req->route->open && req->srv->token[0] ? token_problem(req) : 0;
     if (token)
         return http_send_problem(req, token, "Authorization", token == PROBLEM_UNAUTHORIZED

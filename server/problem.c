@@ -32,6 +32,8 @@ static const struct problem_kind table[] = {
     {PROBLEM_NOT_READY, NULL, 503, "not-ready", "Not ready"},
     {PROBLEM_DEADLINE, NULL, 503, "deadline", "Render deadline exceeded"},
     {PROBLEM_BODY_TOO_LARGE, NULL, 413, "body-too-large", "Request body too large"},
+    {PROBLEM_HOST, NULL, 421, "host-not-served", "Host not served"},
+    {PROBLEM_ORIGIN, NULL, 403, "origin-refused", "Cross-origin request refused"},
 };
 
 const struct problem_kind *problem_lookup(int code, const char *field)

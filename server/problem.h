@@ -17,6 +17,8 @@ enum {
     PROBLEM_NOT_READY,          /* starting or draining */
     PROBLEM_DEADLINE,           /* the render did not finish within render-timeout */
     PROBLEM_BODY_TOO_LARGE,
+    PROBLEM_HOST,               /* the Host is not one this daemon serves (DNS rebinding) */
+    PROBLEM_ORIGIN,             /* a POST or DELETE sent by a web page of a foreign origin */
 };
 
 struct problem_kind {

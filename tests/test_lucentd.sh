@@ -252,6 +252,41 @@ check "metrics: render histogram counts the parallel renders" awk '$1 == "lucent
 check "metrics: queue wait and encode histograms, queue depth, store bytes" bash -c "grep -q '^lucentd_queue_wait_seconds_bucket' '$work/metrics' && grep -q '^lucentd_encode_seconds_sum' '$work/metrics' && grep -q '^lucentd_queue_depth 0' '$work/metrics' && grep -q '^lucentd_mesh_store_bytes [1-9]' '$work/metrics'"
 check "access log has one line per request with the request id" grep -q 'access id=test-id-42 GET /v1/render status=200' "$work/A.log"
 
+# Web pages and DNS rebinding (issue 13): the API answers only for loopback Host names; a POST sent by a
+# page of a foreign origin (a CORS-simple text/plain upload needs no preflight) is refused before its body
+# is read; the daemon's own page and the configured origin may.
+port=${A##*:}
+c=$(req "$work/h" GET "$A/metrics" -H "Host: rebound.example:$port")
+check "forged Host (DNS rebinding) on /metrics: $c" problem "$work/h" 421 Host
+c=$(req "$work/h" GET "$A/v1/render?w=16&h=16" -H "Host: rebound.example:$port")
+check "forged Host on a render: $c" problem "$work/h" 421 Host
+c1=$(req "$work/h" GET "$A/healthz" -H "Host: 10.1.2.3:$port")
+c2=$(req "$work/h.png" GET "$A/v1/render?w=16&h=16&preset=apple" -H "Host: localhost:$port")
+check "probes answer any Host ($c1); localhost:$port is served ($c2)" [ "$c1" = 200 -a "$c2" = 200 ]
+tetra_obj='v 0 0 0
+v 1 0 0
+v 0 1 0
+v 0 0 1.25
+f 1 3 2
+f 1 2 4
+f 1 4 3
+f 2 3 4
+'
+printf '%s' "$tetra_obj" >"$work/web.obj"
+web_id=$(sha256sum "$work/web.obj" | cut -d' ' -f1)
+c=$(req "$work/o" POST "$A/v1/meshes" -H 'Content-Type: text/plain' -H 'Origin: http://attacker.example' \
+    --data-binary "@$work/web.obj")
+problem "$work/o" 403 Origin; refused=$?
+c2=$(req "$work/o2" GET "$A/v1/meshes/$web_id")
+check "text/plain upload sent by a foreign page: $c, and nothing stored ($c2)" [ "$refused" = 0 -a "$c2" = 404 ]
+c=$(req "$work/o.png" POST "$A/v1/render" -H 'Content-Type: text/plain' -H 'Origin: null' -d '{"width":16,"height":16}')
+check "a render POSTed by a sandboxed page (Origin: null): $c" problem "$work/o.png" 403 Origin
+c1=$(req "$work/o" POST "$A/v1/meshes" -H 'Content-Type: text/plain' -H "Origin: http://127.0.0.1:$port" \
+    --data-binary "@$work/web.obj")
+c2=$(req "$work/o.png" POST "$A/v1/render" -H 'Content-Type: application/json' -H 'Origin: https://app.example' \
+    -d '{"width":16,"height":16}')
+check "the daemon's own page may upload ($c1); the configured origin may render ($c2)" [ "$c1" = 201 -a "$c2" = 200 ]
+
 stop "$A_pid"; rc=$?
 check "A: SIGTERM -> exit 0 ($rc)" [ "$rc" = 0 ]
 
@@ -491,6 +526,13 @@ c=$(req "$work/r5" GET "$R/v1/materials")
 check "after Retry-After the client passes again ($c)" [ "$c" = 200 ]
 stop "$R_pid"; rc=$?
 check "R: exit 0 ($rc)" [ "$rc" = 0 ]
+
+# --allowed-hosts: the names a deployment serves under, and no others (loopback included).
+start H --store-dir "$work/storeH" --allowed-hosts 'render.example, lucent.internal'
+c1=$(req "$work/h" GET "$base/v1/materials" -H "Host: lucent.internal:${base##*:}")
+c2=$(req "$work/h2" GET "$base/v1/materials")
+check "--allowed-hosts: lucent.internal served ($c1), 127.0.0.1 not ($c2)" [ "$c1" = 200 -a "$c2" = 421 ]
+stop "$pid"
 
 echo "whole test: $SECONDS s"
 echo "$passed passed, $failed failed"

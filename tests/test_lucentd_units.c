@@ -3,6 +3,7 @@
 #include "image_cache.h"
 #include "problem.h"
 #include "rate_limit.h"
+#include "request_origin.h"
 #include "scene_canonical.h"
 #include "scene_query.h"
 #include "test_support.h"
@@ -293,6 +294,52 @@ static void rate_limit_buckets(void)
     rate_limit_free(rl);
 }
 
+/* The Host and Origin rules against DNS rebinding and web pages driving the daemon. */
+static void hosts_and_origins(void)
+{
+    static const struct {
+        const char *host, *allowed, *listen;
+        int want;
+    } hosts[] = {
+        {"127.0.0.1:8080", "", "127.0.0.1", 1},     {"localhost:8080", "", "127.0.0.1", 1},
+        {"LOCALHOST", "", "127.0.0.1", 1},          {"[::1]:8080", "", "::1", 1},
+        {NULL, "", "127.0.0.1", 1},                 {"evil.example:8080", "", "127.0.0.1", 0},
+        {"127.0.0.1.evil.example", "", "127.0.0.1", 0}, {"localhost:80x", "", "127.0.0.1", 0},
+        {"[::1]x", "", "127.0.0.1", 0},             {"evil.example", "", "0.0.0.0", 1},
+        {"render.example:443", "render.example, other", "0.0.0.0", 1}, {"evil.example", "render.example", "0.0.0.0", 0},
+        {"localhost", "render.example", "127.0.0.1", 0}, {"anything", "*", "127.0.0.1", 1},
+    };
+    int wrong = 0;
+    for (size_t i = 0; i < sizeof hosts / sizeof hosts[0]; i++)
+        if (host_allowed(hosts[i].host, hosts[i].allowed, hosts[i].listen) != hosts[i].want) {
+            printf("     Host %s with --allowed-hosts \"%s\", listening on %s: want %d\n",
+                   hosts[i].host ? hosts[i].host : "(none)", hosts[i].allowed, hosts[i].listen, hosts[i].want);
+            wrong++;
+        }
+    test_check(wrong == 0, "%zu Host cases (loopback names by default, ports, IPv6, lists, *): %d wrong",
+               sizeof hosts / sizeof hosts[0], wrong);
+    static const struct {
+        const char *origin, *host, *cors;
+        int want;
+    } origins[] = {
+        {NULL, "127.0.0.1:8080", "", 1},                          {"http://127.0.0.1:8080", "127.0.0.1:8080", "", 1},
+        {"http://evil.example", "127.0.0.1:8080", "", 0},         {"null", "127.0.0.1:8080", "", 0},
+        {"https://127.0.0.1:8080", "127.0.0.1:8080", "", 0},      {"http://127.0.0.1:9090", "127.0.0.1:8080", "", 0},
+        {"https://app.example", "127.0.0.1:8080", "https://app.example", 1},
+        {"http://evil.example", "127.0.0.1:8080", "*", 1},        {"http://localhost:8080", NULL, "", 0},
+    };
+    wrong = 0;
+    for (size_t i = 0; i < sizeof origins / sizeof origins[0]; i++)
+        if (origin_allowed(origins[i].origin, origins[i].host, origins[i].cors) != origins[i].want) {
+            printf("     Origin %s to Host %s with --cors-origins \"%s\": want %d\n",
+                   origins[i].origin ? origins[i].origin : "(none)", origins[i].host ? origins[i].host : "(none)",
+                   origins[i].cors, origins[i].want);
+            wrong++;
+        }
+    test_check(wrong == 0, "%zu Origin cases (none, the daemon's own, foreign, null, configured, *): %d wrong",
+               sizeof origins / sizeof origins[0], wrong);
+}
+
 int main(void)
 {
     etags_cover_every_field();
@@ -300,5 +347,6 @@ int main(void)
     problem_table();
     image_cache_lru();
     rate_limit_buckets();
+    hosts_and_origins();
     return test_finish();
 }
