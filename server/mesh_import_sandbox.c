@@ -296,6 +296,28 @@ static int known_ext(const char *ext)
     return 0;
 }
 
+/* The importer's stderr, a log line per line of it, each byte that could forge or hide a line (line
+ * ends, escape sequences, anything not printable ASCII) written as \xNN: it is the hostile side's text. */
+static void relay_log(const char *log, size_t len)
+{
+    char line[4 * LOG_CAP + 1];
+    size_t n = 0;
+    for (size_t i = 0; i <= len; i++) {
+        unsigned char c = i < len ? (unsigned char)log[i] : '\n';
+        if (c == '\n') {
+            if (n > 0) {
+                line[n] = '\0';
+                fprintf(stderr, "lucent: mesh importer: %s\n", line);
+            }
+            n = 0;
+        } else if (c >= 0x20 && c < 0x7f && c != '\\') {
+            line[n++] = (char)c;
+        } else {
+            n += (size_t)snprintf(line + n, sizeof line - n, "\\x%02x", c);
+        }
+    }
+}
+
 lucent_status mesh_import_isolated(const char *import_tool, const struct import_limits *lim, const void *bytes,
                                    size_t len, const char *ext, const char *out_path, struct mesh_info *info,
                                    lucent_error *err)
@@ -320,8 +342,7 @@ lucent_status mesh_import_isolated(const char *import_tool, const struct import_
     if (exchanged != 0)
         kill(c.pid, SIGKILL);
     int reaped = reap(c.pid, deadline, &status);
-    if (t.log_len > 0)
-        fprintf(stderr, "%s%s", t.log, t.log[t.log_len - 1] == '\n' ? "" : "\n");
+    relay_log(t.log, t.log_len);
 
     if (exchanged < 0)
         return lucent_fail(err, LUCENT_E_INTERNAL, "", "poll failed while talking to the mesh importer");

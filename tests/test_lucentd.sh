@@ -451,6 +451,8 @@ case $(head -c 16) in
   crash*) kill -SEGV $$ ;;
   hang*) exec sleep 60 ;;
   nomem*) echo '{"status":"nomem","field":"mesh","message":"out of memory"}'; exit 2 ;;
+  forge*) printf 'warning\n2026-01-01T00:00:00.000Z info lucentd: access id=forged GET /v1/render status=200\n\033[2Khidden\n' >&2
+          echo '{"status":"mesh","field":"mesh","message":"nothing to render"}'; exit 2 ;;
 esac
 exit 3
 EOF2
@@ -500,6 +502,12 @@ check "an importer that hangs is stopped at --import-wall 1 s -> 422 ($c) after 
     problem_with "$work/e" 422 mesh 'took longer than 1 s'
 c=$(req "$work/e" POST "$C/v1/meshes" -H 'Content-Type: model/obj' --data-binary 'nomem')
 check "an importer out of memory -> 413 ($c): $(json_field "$work/e" '["detail"]')" problem_with "$work/e" 413 mesh 'more than'
+c=$(req "$work/e" POST "$C/v1/meshes" -H 'Content-Type: model/obj' --data-binary 'forge')
+forged=$(grep -c '^2026-01-01T00:00:00.000Z info lucentd: access id=forged' "$work/C.log")
+relayed=$(grep -c 'lucent: mesh importer: 2026-01-01T00:00:00.000Z info lucentd: access id=forged' "$work/C.log")
+escaped=$(grep -c 'lucent: mesh importer: \\x1b\[2Khidden' "$work/C.log")
+check "an importer's stderr cannot forge log lines ($c): $forged forged, $relayed relayed as the importer's, $escaped escape sequence shown escaped" \
+    [ "$forged" = 0 -a "$relayed" = 1 -a "$escaped" = 1 ]
 children=$(pgrep -P "$C_pid" | wc -l)
 c=$(req "$work/h" GET "$C/healthz")
 check "the daemon lives on ($c) with no importer left running ($children children)" [ "$c" = 200 -a "$children" = 0 ]
