@@ -56,7 +56,7 @@ static void ascii(const char *in, char *out, size_t cap)
 char *problem_json(const struct problem_kind *kind, const lucent_error *err, const char *request_id,
                    size_t *len)
 {
-    char type[96], instance[64], detail[sizeof err->message], field[sizeof err->field];
+    char type[96], instance[96], detail[sizeof err->message], field[sizeof err->field];
     ascii(err->message, detail, sizeof detail);
     ascii(err->field, field, sizeof field);
     snprintf(type, sizeof type, "tag:lucent,2026:problem:%s", kind->slug);

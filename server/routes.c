@@ -2,6 +2,7 @@
  * ETag or the image cache when they can, else hand the work to a queue; errors go through problem.c. */
 #include "routes.h"
 
+#include "accept_header.h"
 #include "http_server.h"
 #include "image_cache.h"
 #include "mesh_store.h"
@@ -144,41 +145,6 @@ static enum MHD_Result send_json(struct request *req, unsigned status, json_t *d
 /* ---- /v1/render ---- */
 
 static const char *const content_types[] = {[LUCENT_FORMAT_PNG] = "image/png", [LUCENT_FORMAT_EXR] = "image/x-exr"};
-
-/* q-value of one image type in an Accept header (RFC 9110 12.5.1): the most specific range decides. */
-static double accept_q(const char *accept, const char *type)
-{
-    double best = 0;
-    int best_specificity = -1;
-    const char *p = accept;
-    while (*p) {
-        size_t len = strcspn(p, ",");
-        char item[128];
-        snprintf(item, sizeof item, "%.*s", (int)(len < sizeof item ? len : sizeof item - 1), p);
-        p += len + (p[len] == ',');
-        char *params = strchr(item, ';');
-        double q = 1;
-        if (params) {
-            *params++ = 0;
-            const char *qp = strstr(params, "q=");
-            if (qp)
-                q = strtod(qp + 2, NULL);
-        }
-        char *range = item;
-        while (*range == ' ')
-            range++;
-        range[strcspn(range, " ")] = 0;
-        int specificity = strcasecmp(range, type) == 0       ? 2
-                          : strcasecmp(range, "image/*") == 0 ? 1
-                          : strcmp(range, "*/*") == 0         ? 0
-                                                              : -1;
-        if (specificity > best_specificity) {
-            best_specificity = specificity;
-            best = q;
-        }
-    }
-    return best;
-}
 
 /* Picks the output format: the scene's "format" when given, else the better of PNG and EXR by Accept
  * (PNG on a tie). Returns -1 when the Accept header rules out what is possible. */

@@ -92,6 +92,10 @@ check "Server-Timing has queue, passes and encode" grep -qiE '^server-timing: qu
 check "Lucent-Modelled is the renderer's JSON" python3 -c 'import json,sys; d=json.loads(sys.argv[1]); sys.exit(0 if "method" in d else 1)' "$(header "$work/get.png" Lucent-Modelled)"
 c=$(req "$work/id.png" GET "$A/v1/render?$scene_query" -H 'X-Request-Id: test-id-42')
 check "request id echoed and logged" [ "$(header "$work/id.png" X-Request-Id)" = test-id-42 ]
+long_id=$(printf 'r%.0s' $(seq 1 64))
+c=$(req "$work/id" GET "$A/v1/render?w=abc" -H "X-Request-Id: $long_id")
+check "a 64-character request id is the problem's instance in full ($c)" \
+    [ "$(json_field "$work/id" '["instance"]')" = "urn:lucent:request:$long_id" -a "$(header "$work/id" X-Request-Id)" = "$long_id" ]
 renders_before=$(METRIC='lucentd_render_seconds_count{method="five"}' metric "$A/metrics")
 c=$(req "$work/304" GET "$A/v1/render?$scene_query" -H "If-None-Match: $etag")
 check "If-None-Match -> 304 ($c), empty body, same ETag" [ "$c" = 304 -a ! -s "$work/304" -a "$(header "$work/304" ETag)" = "$etag" ]

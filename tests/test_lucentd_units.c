@@ -1,5 +1,6 @@
 /* test_lucentd_units.c - the daemon's pure parts without HTTP or Vulkan: the ETag changes with every scene
  * field, GET query fields build the same scene as the POST document, the error table, the image LRU. */
+#include "accept_header.h"
 #include "image_cache.h"
 #include "problem.h"
 #include "rate_limit.h"
@@ -340,6 +341,33 @@ static void hosts_and_origins(void)
                sizeof origins / sizeof origins[0], wrong);
 }
 
+/* Accept items of any length, and only a parameter named q as the q-value. */
+static void accept_values(void)
+{
+    char long_params[400];
+    snprintf(long_params, sizeof long_params, "image/png;%0300d=1;q=0, */*", 0);
+    static const struct {
+        const char *accept, *type;
+        double want;
+    } cases[] = {
+        {"image/png", "image/png", 1},          {"image/png;q=0.5", "image/png", 0.5},
+        {"image/png ; Q = 0.25", "image/png", 0.25}, {"image/png;sq=0", "image/png", 1},
+        {"image/png;q=0, image/*", "image/png", 0}, {"image/*;q=0.3, */*", "image/x-exr", 0.3},
+        {"text/html", "image/png", 0},          {"IMAGE/PNG;q=2", "image/png", 1},
+        {"*/*;q=0.1", "image/x-exr", 0.1},      {"", "image/png", 0},
+    };
+    int wrong = 0;
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
+        if (accept_q(cases[i].accept, cases[i].type) != cases[i].want) {
+            printf("     Accept \"%s\" for %s: %g, want %g\n", cases[i].accept, cases[i].type,
+                   accept_q(cases[i].accept, cases[i].type), cases[i].want);
+            wrong++;
+        }
+    double q = accept_q(long_params, "image/png");
+    test_check(wrong == 0 && q == 0, "%zu Accept cases (q=, sq=, spaces, case, specificity) %d wrong; q=0 after "
+               "300 bytes of parameters honoured (%g)", sizeof cases / sizeof cases[0], wrong, q);
+}
+
 int main(void)
 {
     etags_cover_every_field();
@@ -348,5 +376,6 @@ int main(void)
     image_cache_lru();
     rate_limit_buckets();
     hosts_and_origins();
+    accept_values();
     return test_finish();
 }
