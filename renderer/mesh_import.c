@@ -12,12 +12,14 @@
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <fcntl.h>
 #include <jansson.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #define MAX_MESH_BYTES ((size_t)512 << 20)
 #define MAX_MESH_BYTES_TEXT "512 MiB"
@@ -659,9 +661,15 @@ static lucent_status read_whole_file(const char *path, unsigned char **data, siz
     lucent_status st = LUCENT_OK;
     unsigned char *buf = NULL;
     struct stat info;
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    /* Non-blocking, so that a FIFO planted at the path cannot hang the caller in open until a writer
+     * comes; it is refused below with every other file that is not regular. */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
+    if (!f) {
+        if (fd >= 0)
+            close(fd);
         return lucent_fail(err, LUCENT_E_IO, "mesh.file", "cannot open \"%s\"", path);
+    }
     if (fstat(fileno(f), &info) != 0 || !S_ISREG(info.st_mode)) {
         st = lucent_fail(err, LUCENT_E_IO, "mesh.file", "\"%s\" is not a regular file", path);
         goto done;

@@ -503,6 +503,25 @@ static void check_bunny(const char *path)
     lucent_mesh_free(m);
 }
 
+/* A FIFO planted where a mesh file should be: refused at once, not waited on for a writer (the daemon's
+ * one render worker would hang there). The alarm turns a hang into a failure. */
+static void check_fifo(void)
+{
+    char path[128];
+    snprintf(path, sizeof path, "/tmp/lucent-fifo-%ld.obj", (long)getpid());
+    unlink(path);
+    if (!test_check(mkfifo(path, 0600) == 0, "made a FIFO at %s", path))
+        return;
+    alarm(10);
+    lucent_mesh *m = NULL;
+    lucent_error err = {0};
+    lucent_status st = lucent_mesh_import_file(path, &m, &err);
+    alarm(0);
+    test_check(st == LUCENT_E_IO && !m, "a FIFO as a mesh file is refused at once: %s", err.message);
+    lucent_mesh_free(m);
+    unlink(path);
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 3) {
@@ -516,6 +535,7 @@ int main(int argc, char **argv)
     check_external_references();
     check_node_transforms();
     check_hostile_bytes();
+    check_fifo();
     check_bunny(argv[2]);
     return test_finish();
 }
