@@ -21,8 +21,8 @@ static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
 
 static enum gpu_fault kind_named(const char *name, size_t len)
 {
-    static const char *const names[] = {"submit", "lost", "timeout"};
-    for (int i = 0; i < 3; i++)
+    static const char *const names[] = {"submit", "lost", "timeout", "hang"};
+    for (int i = 0; i < 4; i++)
         if (strlen(names[i]) == len && memcmp(names[i], name, len) == 0)
             return (enum gpu_fault)(GPU_FAULT_SUBMIT + i);
     return GPU_FAULT_NONE;
@@ -37,8 +37,8 @@ static void read_plan(void)
         enum gpu_fault kind = at ? kind_named(p, (size_t)(at - p)) : GPU_FAULT_NONE;
         unsigned long frame = at ? strtoul(at + 1, &end, 10) : 0;
         if (kind == GPU_FAULT_NONE || !end || end == at + 1 || (*end && *end != ',') || frame == 0) {
-            fprintf(stderr, "lucent: LUCENT_FAULTS=\"%s\" not understood (KIND@FRAME,... with KIND submit, lost "
-                            "or timeout); no faults injected\n", spec);
+            fprintf(stderr, "lucent: LUCENT_FAULTS=\"%s\" not understood (KIND@FRAME,... with KIND submit, lost, "
+                            "timeout or hang); no faults injected\n", spec);
             planned = 0;
             return;
         }

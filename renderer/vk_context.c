@@ -4,6 +4,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 lucent_status vk_context_create(struct vk_context *ctx, const char *device_name, int verbose,
                                 lucent_error *err)
@@ -96,7 +97,7 @@ lucent_status vk_submit_and_wait(struct vk_context *ctx, lucent_error *err)
     VkResult submitted = fault == GPU_FAULT_SUBMIT ? VK_ERROR_OUT_OF_DEVICE_MEMORY
                          : fault == GPU_FAULT_LOST ? VK_ERROR_DEVICE_LOST
                                                    : VK_SUCCESS;
-    if (!fault || fault == GPU_FAULT_TIMEOUT) {
+    if (!fault || fault == GPU_FAULT_TIMEOUT || fault == GPU_FAULT_HANG) {
         pthread_mutex_lock(&ctx->shared->queue_lock);
         submitted = vkQueueSubmit(ctx->shared->queue, 1, &si, ctx->fence);
         pthread_mutex_unlock(&ctx->shared->queue_lock);
@@ -106,6 +107,8 @@ lucent_status vk_submit_and_wait(struct vk_context *ctx, lucent_error *err)
     if (submitted != VK_SUCCESS)  /* nothing submitted: the fence stays unsignaled and nobody waits on it */
         return lucent_fail(err, LUCENT_E_VULKAN, "", "vkQueueSubmit failed: %s", vk_result_name(submitted));
     ctx->in_flight = 1;
+    while (fault == GPU_FAULT_HANG)
+        sleep(60);
     VkResult waited = fault == GPU_FAULT_TIMEOUT ? VK_TIMEOUT
                                                  : vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, VK_CONTEXT_WAIT_NS);
     if (waited == VK_TIMEOUT)

@@ -94,6 +94,9 @@ static void drain(struct server *srv, struct MHD_Daemon *d)
         tick();
 }
 
+/* After the drain, how long the render worker may take to return from its last frame. */
+#define WORKER_STOP_SECONDS 5
+
 /* Blocks from 256 KiB up (images, render targets, meshes, bodies) are mapped and unmapped, so their
  * pages go back to the system when freed. glibc otherwise raises this threshold to the largest block
  * freed, and later such blocks land on heaps that keep their pages: 80 MB more after the memory soak. */
@@ -183,7 +186,12 @@ done:
         MHD_stop_daemon(d);
     }
     upload_queue_destroy(srv.uploads); /* imports always complete: the store is never left half-written */
-    render_queue_destroy(srv.queue);
+    if (render_queue_destroy(srv.queue, WORKER_STOP_SECONDS) != 0) {
+        /* Exiting ends the stuck thread; releasing its device first could only hang or crash. */
+        log_line(LOG_ERROR, "the render worker did not stop within %d s (a hung device or driver); exiting "
+                            "without it", WORKER_STOP_SECONDS);
+        return 1;
+    }
     mesh_store_close(srv.store);
     lucent_shutdown();
     image_cache_destroy(srv.cache);

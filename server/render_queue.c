@@ -23,6 +23,7 @@ struct render_queue {
     struct render_job *current;
     lucent_renderer *renderer;  /* the worker's, for lucent_render_cancel (thread-safe) */
     int closed, stop;
+    int exited;                 /* the worker has returned; destroy waits for this, bounded */
     int started;                /* 1 warm, -1 failed */
     int recovering;             /* the device was lost; a new renderer is being made */
     lucent_error start_err;
@@ -235,6 +236,10 @@ static void *worker(void *arg)
     q->renderer = NULL;
     pthread_mutex_unlock(&q->lock);
     lucent_renderer_destroy(r);
+    pthread_mutex_lock(&q->lock);
+    q->exited = 1;
+    pthread_cond_broadcast(&q->wake);
+    pthread_mutex_unlock(&q->lock);
     return NULL;
 }
 
@@ -378,17 +383,31 @@ int render_queue_open_jobs(struct render_queue *q)
     return open;
 }
 
-void render_queue_destroy(struct render_queue *q)
+int render_queue_destroy(struct render_queue *q, double wait_s)
 {
     if (!q)
-        return;
+        return 0;
+    struct timespec until;
+    clock_gettime(CLOCK_REALTIME, &until);
+    until.tv_sec += (time_t)wait_s;
+    until.tv_nsec += (long)((wait_s - (double)(time_t)wait_s) * 1e9);
+    if (until.tv_nsec >= 1000000000L) {
+        until.tv_sec++;
+        until.tv_nsec -= 1000000000L;
+    }
     pthread_mutex_lock(&q->lock);
     q->stop = 1;
     q->closed = 1;
     pthread_cond_broadcast(&q->wake);
+    while (!q->exited && pthread_cond_timedwait(&q->wake, &q->lock, &until) == 0)
+        ;
+    int exited = q->exited;
     pthread_mutex_unlock(&q->lock);
+    if (!exited)
+        return -1; /* stuck in a call that does not return: the queue stays, for the worker's sake */
     pthread_join(q->thread, NULL);
     pthread_cond_destroy(&q->wake);
     pthread_mutex_destroy(&q->lock);
     free(q);
+    return 0;
 }

@@ -62,8 +62,10 @@ int render_queue_recovering(struct render_queue *q);
 int render_queue_depth(struct render_queue *q, int *in_flight);
 /* Jobs not yet finished (resumed). */
 int render_queue_open_jobs(struct render_queue *q);
-/* Joins the worker (after its current render) and destroys the renderer. */
-void render_queue_destroy(struct render_queue *q);
+/* Stops the worker after its current render, waiting at most wait_s, then frees the queue (the worker
+ * destroys the renderer). -1 when the worker did not return in time (stuck in the driver or in I/O):
+ * nothing is freed, and the caller should exit without touching the renderer's device. */
+int render_queue_destroy(struct render_queue *q, double wait_s);
 
 double monotonic_seconds(void);
 

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # test_lucentd_gpu_faults.sh - lucentd through GPU faults injected by a test build (LUCENT_FAULTS, see
 # renderer/gpu_faults.h): a lost device (503 with Retry-After, /readyz 503 while a new renderer is made,
-# renders refused meanwhile, then served again), a failed submit (500, the next frame fine) and a fence
-# that times out (500, the next frame waits for it and is correct). Usage: test_lucentd_gpu_faults.sh lucentd
+# renders refused meanwhile, then served again), a failed submit (500, the next frame fine), a fence
+# that times out (500, the next frame waits for it and is correct), and a driver stuck in a call (SIGTERM
+# still ends the daemon in bounded time). Usage: test_lucentd_gpu_faults.sh lucentd
 set -u
 lucentd=$1
 source "$(dirname "$0")/lucentd_harness.sh"
@@ -44,6 +45,19 @@ lost=$(curl -s "$base/metrics" | awk '$1 == "lucentd_devices_lost_total" { print
 check "lucentd_devices_lost_total $lost" [ "$lost" = 1 ]
 kill -TERM "$pid"; wait "$pid"; rc=$?
 check "SIGTERM: exit status $rc" [ "$rc" = 0 ]
+
+# A driver stuck in a call (the wait of frame 2 never returns): the render's deadline answers it, and
+# SIGTERM still ends the daemon within --drain-timeout and the worker's 5 s, exit status 1 and why.
+export LUCENT_FAULTS="hang@2"
+start G --store-dir "$work/storeG" --render-timeout 1 --drain-timeout 1
+c=$(render apple)
+check "frame 2 hangs: the render's deadline answers it: $c of type $(type_of "$work/apple.png")" \
+    [ "$c" = 503 -a "$(type_of "$work/apple.png")" = deadline ]
+t0=$(date +%s%N)
+stop "$pid"; rc=$?
+ms=$(ms_since "$t0")
+check "SIGTERM with the worker stuck: exit $rc after $ms ms (bound 15000), the log says why" \
+    bash -c "[ $rc = 1 ] && [ $ms -lt 15000 ] && grep -q 'render worker did not stop within 5 s' '$log'"
 
 echo "$passed passed, $failed failed"
 [[ $failed == 0 ]]
