@@ -286,6 +286,18 @@ fail:
     return st;
 }
 
+/* The kept pipeline for key in *out, or VK_NULL_HANDLE in *out and in *slot where a new one goes. */
+static lucent_status find_or_make_room(struct vk_context *ctx, struct pipeline_lru *lru, uint64_t key, uint64_t frame,
+                                       const char *kind, VkPipeline *out, int *slot, lucent_error *err)
+{
+    if ((*out = pipeline_lru_find(lru, key, frame)))
+        return LUCENT_OK;
+    if ((*slot = pipeline_lru_make_room(lru, ctx->device, frame)) < 0)
+        return lucent_fail(err, LUCENT_E_INTERNAL, "", "more than %d %s pipelines in one frame", PIPELINE_LRU_SLOTS,
+                           kind);
+    return LUCENT_OK;
+}
+
 lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, int which, int lights,
                                    uint32_t shadow_mask, int cull, VkPipeline *out, lucent_error *err)
 {
@@ -295,18 +307,16 @@ lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, 
     uint64_t variant = ((uint64_t)cull * PROJECTION_PASSES + (uint64_t)which) * LUCENT_MAX_LIGHTS +
                        (uint64_t)(lights - 1);
     uint64_t key = variant << LUCENT_MAX_LIGHTS | shadow_mask;
-    if ((*out = pipeline_lru_find(&p->projection, key, p->frame)))
-        return LUCENT_OK;
-    int slot = pipeline_lru_make_room(&p->projection, ctx->device, p->frame);
-    if (slot < 0)
-        return lucent_fail(err, LUCENT_E_INTERNAL, "", "more than %d projection pipelines in one frame",
-                           PIPELINE_LRU_SLOTS);
+    int slot;
+    lucent_status st = find_or_make_room(ctx, &p->projection, key, p->frame, "projection", out, &slot, err);
+    if (st != LUCENT_OK || *out)
+        return st;
     int32_t values[2] = {lights, (int32_t)shadow_mask};
     VkSpecializationMapEntry entries[2] = {{0, 0, 4}, {1, 4, 4}};
     VkSpecializationInfo spec = {2, entries, sizeof values, values};
     struct raster_desc proj = {p->projection_pass[which], p->projection_layout, SHADER(projection_vert),
                                SHADER(projection_frag), &spec, 2, 1, cull};
-    lucent_status st = make_raster_pipeline(ctx, &proj, out, err);
+    st = make_raster_pipeline(ctx, &proj, out, err);
     if (st == LUCENT_OK)
         pipeline_lru_put(&p->projection, slot, key, *out, p->frame);
     return st;
@@ -326,17 +336,15 @@ lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, con
     uint64_t pass = (uint64_t)v->pass * 3 + (uint64_t)(v->block == 4 ? 2 : v->block - 1);
     uint64_t key = ((((pass * (LUCENT_MAX_SAMPLES + 1) + (uint64_t)v->samples) * VIEW_VARIANTS + (uint64_t)views) * 2 +
                      (uint64_t)shared) * 2 + (uint64_t)front) * 2 + (uint64_t)single;
-    if ((*out = pipeline_lru_find(&p->scatter, key, p->frame)))
-        return LUCENT_OK;
-    int slot = pipeline_lru_make_room(&p->scatter, ctx->device, p->frame);
-    if (slot < 0)
-        return lucent_fail(err, LUCENT_E_INTERNAL, "", "more than %d scatter pipelines in one frame",
-                           PIPELINE_LRU_SLOTS);
+    int slot;
+    lucent_status st = find_or_make_room(ctx, &p->scatter, key, p->frame, "scatter", out, &slot, err);
+    if (st != LUCENT_OK || *out)
+        return st;
     int32_t values[7] = {v->samples, v->views, shared, front, single, v->pass, v->block};
     VkSpecializationMapEntry entries[7] = {{0, 0, 4},  {1, 4, 4},  {2, 8, 4}, {3, 12, 4},
                                            {4, 16, 4}, {5, 20, 4}, {6, 24, 4}};
     VkSpecializationInfo spec = {7, entries, sizeof values, values};
-    lucent_status st = make_compute_pipeline(ctx, p, SHADER(scatter_comp), &spec, out, err);
+    st = make_compute_pipeline(ctx, p, SHADER(scatter_comp), &spec, out, err);
     if (st == LUCENT_OK)
         pipeline_lru_put(&p->scatter, slot, key, *out, p->frame);
     return st;

@@ -346,7 +346,8 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
     lucent_status st;
     /* A frame that timed out must finish before its meshes, targets or pipelines are touched. */
     if ((st = check_scene(scene, err)) || (st = check_device_limits(r, scene, err)) ||
-        (st = vk_context_settle(&r->ctx, err)) || (st = mesh_cache_get(&r->ctx, &r->meshes, &scene->mesh, &gm, &stats->ms_mesh_load, err)))
+        (st = vk_context_settle(&r->ctx, err)) ||
+        (st = mesh_cache_get(&r->ctx, &r->meshes, &scene->mesh, &gm, &stats->ms_mesh_load, err)))
         return st;
     if (scene->method == LUCENT_METHOD_REFERENCE) {
         st = render_reference(r, scene, gm, out, stats, err);

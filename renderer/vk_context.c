@@ -94,10 +94,12 @@ lucent_status vk_submit_and_wait(struct vk_context *ctx, lucent_error *err)
     VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = 1,
                        .pCommandBuffers = &ctx->cmd};
     VK_TRY(vkResetFences(ctx->device, 1, &ctx->fence), err);
-    VkResult submitted = fault == GPU_FAULT_SUBMIT ? VK_ERROR_OUT_OF_DEVICE_MEMORY
-                         : fault == GPU_FAULT_LOST ? VK_ERROR_DEVICE_LOST
-                                                   : VK_SUCCESS;
-    if (!fault || fault == GPU_FAULT_TIMEOUT || fault == GPU_FAULT_HANG) {
+    VkResult submitted;
+    if (fault == GPU_FAULT_SUBMIT) {
+        submitted = VK_ERROR_OUT_OF_DEVICE_MEMORY;
+    } else if (fault == GPU_FAULT_LOST) {
+        submitted = VK_ERROR_DEVICE_LOST;
+    } else {
         pthread_mutex_lock(&ctx->shared->queue_lock);
         submitted = vkQueueSubmit(ctx->shared->queue, 1, &si, ctx->fence);
         pthread_mutex_unlock(&ctx->shared->queue_lock);
@@ -109,8 +111,9 @@ lucent_status vk_submit_and_wait(struct vk_context *ctx, lucent_error *err)
     ctx->in_flight = 1;
     while (fault == GPU_FAULT_HANG)
         sleep(60);
-    VkResult waited = fault == GPU_FAULT_TIMEOUT ? VK_TIMEOUT
-                                                 : vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, VK_CONTEXT_WAIT_NS);
+    VkResult waited = fault == GPU_FAULT_TIMEOUT
+                          ? VK_TIMEOUT
+                          : vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, VK_CONTEXT_WAIT_NS);
     if (waited == VK_TIMEOUT)
         return lucent_fail(err, LUCENT_E_VULKAN, "", "the frame did not finish within %d s on device \"%s\"",
                            VK_CONTEXT_WAIT_S, ctx->device_name);

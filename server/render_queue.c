@@ -177,8 +177,7 @@ static lucent_renderer *recover(struct render_queue *q, lucent_renderer *lost, c
     log_line(LOG_ERROR, "%s; re-creating the renderer", why->message);
     metrics_device_lost(q->metrics);
     pthread_mutex_lock(&q->lock);
-    q->renderer = NULL;
-    q->recovering = 1;
+    q->renderer = NULL;  /* run_job has set recovering already */
     pthread_mutex_unlock(&q->lock);
     lucent_renderer_destroy(lost);
     for (;;) {
