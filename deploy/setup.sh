@@ -20,6 +20,7 @@ packages=(
   libmicrohttpd-dev libcurl4-openssl-dev
   curl python3 wrk
   libssl-dev
+  libseccomp-dev
   gnuplot-nox
   clang libclang-rt-14-dev
   nodejs

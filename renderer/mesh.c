@@ -340,6 +340,18 @@ lucent_status mesh_fill_normals(struct lucent_mesh *m, lucent_error *err)
     return LUCENT_OK;
 }
 
+void mesh_bounds(const struct lucent_mesh *m, double lo[3], double hi[3])
+{
+    for (int k = 0; k < 3; k++)
+        lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (size_t v = 0; v < m->vertex_count; v++)
+        for (int k = 0; k < 3; k++) {
+            double x = m->center[k] + m->positions[3 * v + k];
+            lo[k] = fmin(lo[k], x);
+            hi[k] = fmax(hi[k], x);
+        }
+}
+
 void mesh_vertex(const struct lucent_mesh *m, uint32_t t, int k, double out[3])
 {
     const float *p = &m->positions[(size_t)m->indices[(size_t)t * 3 + k] * 3];

@@ -36,6 +36,8 @@ struct lucent_mesh *mesh_alloc(uint32_t vertex_count, uint32_t triangle_count, i
  * on meshes far denser than a projection image. Returns NULL on allocation failure. */
 struct lucent_mesh *mesh_simplify(const struct lucent_mesh *src, uint32_t target_triangles);
 
+/* The box around every vertex, in the source's coordinates (center added back). */
+void mesh_bounds(const struct lucent_mesh *m, double lo[3], double hi[3]);
 /* Vertex k (0..2) of triangle t, mesh-centred. */
 void mesh_vertex(const struct lucent_mesh *m, uint32_t t, int k, double out[3]);
 /* Point, unit interpolated normal (turned to the side the winding calls outside) and unit geometric

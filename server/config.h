@@ -14,6 +14,7 @@ struct config {
     int queue_length;             /* render jobs waiting or running; more get 503 */
     int retry_after_s;            /* Retry-After sent with 503 */
     uint64_t max_body_bytes;      /* scene bodies and mesh uploads */
+    uint64_t max_body_total;      /* every request body held at once */
     int max_width, max_height;
     uint32_t max_triangles;       /* builtin tessellation and stored meshes */
     int max_samples;
@@ -21,11 +22,15 @@ struct config {
     int max_projection_size;
     double render_timeout_s;      /* from accepting the request to the image being ready */
     int max_connections;
+    int max_connections_per_client; /* per client address; 0: no limit */
+    double request_timeout_s;     /* to send a whole request, headers and body */
     int connection_timeout_s;     /* idle connections (MHD); suspended ones use render_timeout_s */
     double drain_timeout_s;       /* on SIGTERM: how long queued and running renders may take */
     char store_dir[512];
+    char store_key[512];          /* the store's MAC key; "" is <store_dir>/store.key */
     uint64_t store_bytes;
     char import_tool[512];        /* the sandboxed importer executable (lucent-import) */
+    char import_user[64];         /* the account it runs as when lucentd is root */
     uint64_t import_memory_bytes;
     int import_cpu_s;
     int import_wall_s;

@@ -3,6 +3,7 @@
 #include "http_server.h"
 
 #include "access_log.h"
+#include "connection_guard.h"
 #include "metrics.h"
 #include "problem.h"
 #include "rate_limit.h"
@@ -23,7 +24,7 @@
 #include <strings.h>
 
 #define CONNECTION_MEMORY (128 * 1024) /* headers in and out: Lucent-Modelled can be 2 KiB */
-#define INITIAL_BODY (1024 * 1024)
+#define INITIAL_BODY (256 * 1024)
 
 const char *http_header(struct request *req, const char *name)
 {
@@ -193,6 +194,27 @@ static void assign_id(struct request *req)
              (unsigned long long)n);
 }
 
+/* Raises this request's charge against --max-body-total to `bytes`; -1 (nothing charged) past it. */
+static int charge_body(struct request *req, uint64_t bytes)
+{
+    struct server *srv = req->srv;
+    if (bytes <= req->body_charged)
+        return 0;
+    uint64_t more = bytes - req->body_charged;
+    if (srv->body_bytes + more > srv->cfg.max_body_total)
+        return -1;
+    srv->body_bytes += more;
+    req->body_charged = bytes;
+    return 0;
+}
+
+static enum MHD_Result bodies_full(struct request *req)
+{
+    return http_send_problem(req, PROBLEM_BODIES_FULL, NULL,
+                             "request bodies in flight hold %llu of the %llu bytes this server allows; retry shortly",
+                             (unsigned long long)req->srv->body_bytes, (unsigned long long)req->srv->cfg.max_body_total);
+}
+
 /* Checks made before any body byte is read; a response queued here means MHD discards the body. */
 static enum MHD_Result first_call(struct request *req, int *answered)
 {
@@ -232,7 +254,10 @@ static enum MHD_Result first_call(struct request *req, int *answered)
             return http_send_problem(req, PROBLEM_BODY_TOO_LARGE, "Content-Length",
                                      "the body may have at most %llu bytes (Content-Length: %.24s)",
                                      (unsigned long long)max, cl);
-        /* Memory follows the bytes that actually arrive: a large Content-Length alone reserves little. */
+        /* The declared length is charged in full (it will be needed), but memory follows the bytes that
+         * actually arrive. */
+        if (req->method_bit == M_POST && charge_body(req, n) != 0)
+            return bodies_full(req);
         size_t first = n < INITIAL_BODY ? (size_t)n : INITIAL_BODY;
         if (first > 0 && req->method_bit == M_POST && (req->body = malloc(first)) == NULL)
             return http_send_problem(req, LUCENT_E_NOMEM, NULL, "no memory for a %llu-byte body", n);
@@ -242,33 +267,33 @@ static enum MHD_Result first_call(struct request *req, int *answered)
     return MHD_YES;
 }
 
-/* Appends a chunk; bodies without Content-Length grow up to the limit, then the rest is discarded.
- * Only POST routes read a body; any other method's body is dropped. */
-static void take_body(struct request *req, const char *data, size_t size)
+/* Appends a chunk. Only POST routes read a body; any other method's body is dropped. Returns 0, or the
+ * problem that ends the request at once: over --max-body-bytes (a body without Content-Length grows up
+ * to it), over --max-body-total, or out of memory. */
+static int take_body(struct request *req, const char *data, size_t size)
 {
     uint64_t max = req->srv->cfg.max_body_bytes;
     if (req->method_bit != M_POST)
-        return;
-    if (req->body_too_large || req->body_len + size > max) {
-        req->body_too_large = 1;
-        return;
-    }
+        return 0;
+    if (req->body_len + size > max)
+        return PROBLEM_BODY_TOO_LARGE;
     if (req->body_len + size > req->body_cap) {
         size_t cap = req->body_cap ? req->body_cap * 2 : 64 * 1024;
         while (cap < req->body_len + size)
             cap *= 2;
         if (cap > max)
             cap = (size_t)max;
+        if (charge_body(req, cap) != 0)
+            return PROBLEM_BODIES_FULL;
         unsigned char *grown = realloc(req->body, cap);
-        if (!grown) {
-            req->body_too_large = 1;
-            return;
-        }
+        if (!grown)
+            return LUCENT_E_NOMEM;
         req->body = grown;
         req->body_cap = cap;
     }
     memcpy(req->body + req->body_len, data, size);
     req->body_len += size;
+    return 0;
 }
 
 static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, const char *url, const char *method,
@@ -294,6 +319,8 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, 
         assign_id(req);
         int answered = 0;
         enum MHD_Result r = first_call(req, &answered);
+        if (answered) /* the rest of it is not read */
+            connection_guard_received(connection, req->start);
         return answered ? r : MHD_YES;
     }
     if (req->status) {
@@ -301,20 +328,28 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *connection, 
         return MHD_YES;
     }
     if (*upload_data_size) {
-        take_body(req, upload_data, *upload_data_size);
+        size_t size_given = *upload_data_size;
+        int refused = take_body(req, upload_data, *upload_data_size);
         *upload_data_size = 0;
-        return MHD_YES;
+        if (!refused)
+            return MHD_YES;
+        /* libmicrohttpd 0.9 cannot answer in the middle of a body, and reading the rest only to answer
+         * would let the client send for as long as it likes: the connection is closed at once. (A body
+         * with a Content-Length is refused before it is read, with a 413 or a 503.) */
+        log_line(LOG_WARN, "request %s: connection closed after %zu bytes of its body: %s", req->id,
+                 req->body_len + size_given,
+                 refused == PROBLEM_BODY_TOO_LARGE ? "over --max-body-bytes"
+                 : refused == PROBLEM_BODIES_FULL  ? "the bodies in flight would exceed --max-body-total"
+                                                   : "out of memory");
+        return MHD_NO;
     }
-    if (req->body_too_large)
-        return http_send_problem(req, PROBLEM_BODY_TOO_LARGE, NULL, "the body may have at most %llu bytes",
-                                 (unsigned long long)srv->cfg.max_body_bytes);
+    connection_guard_received(connection, monotonic_seconds());
     return req->route->handler(req);
 }
 
 static void on_completed(void *cls, struct MHD_Connection *connection, void **con_cls,
                          enum MHD_RequestTerminationCode toe)
 {
-    (void)connection;
     struct server *srv = cls;
     struct request *req = *con_cls;
     if (!req)
@@ -338,6 +373,8 @@ static void on_completed(void *cls, struct MHD_Connection *connection, void **co
         metrics_request(srv->metrics, req->route_index, req->status);
     render_job_release(srv->queue, req->job);
     upload_job_release(srv->uploads, req->upload);
+    srv->body_bytes -= req->body_charged;
+    connection_guard_answered(connection, monotonic_seconds());
     free(req->body);
     free(req);
 }
@@ -387,7 +424,8 @@ struct MHD_Daemon *http_start(struct server *srv, uint16_t *port, lucent_error *
         MHD_OPTION_CONNECTION_LIMIT, (unsigned)cfg->max_connections, MHD_OPTION_CONNECTION_TIMEOUT,
         (unsigned)cfg->connection_timeout_s, MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)CONNECTION_MEMORY,
         MHD_OPTION_NOTIFY_COMPLETED, on_completed, srv, MHD_OPTION_UNESCAPE_CALLBACK, unescape_keeping_nul, NULL,
-        MHD_OPTION_END);
+        MHD_OPTION_NOTIFY_CONNECTION, connection_guard_notify, srv->guard,
+        MHD_OPTION_PER_IP_CONNECTION_LIMIT, (unsigned)cfg->max_connections_per_client, MHD_OPTION_END);
     if (!d) {
         lucent_fail(err, LUCENT_E_IO, "listen", "cannot listen on %s port %d (in use, or not an address of this host)",
                     cfg->listen, cfg->port);

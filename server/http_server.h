@@ -26,7 +26,7 @@ struct request {
     double start;
     unsigned char *body;          /* the request body, up to cfg.max_body_bytes */
     size_t body_len, body_cap;
-    int body_too_large;
+    uint64_t body_charged;        /* of the server's --max-body-total: the declared length, or the capacity */
     struct render_job *job;       /* a reference while a render is queued, running or answered */
     struct upload_job *upload;    /* the same for a mesh import */
     unsigned status;              /* sent so far; 0 until a response is queued */

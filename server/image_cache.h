@@ -15,9 +15,11 @@ void image_cache_destroy(struct image_cache *c);
  * stored with them (a NUL-terminated string, copied into meta up to meta_cap). */
 int image_cache_get(struct image_cache *c, const char *key, unsigned char **bytes, size_t *len, char *meta,
                     size_t meta_cap);
-/* Stores a copy; images larger than the whole budget are not stored. */
+/* Stores a copy; an entry costs its bytes, its metadata and its bookkeeping (about 150 bytes), and one
+ * costing more than the whole budget is not stored. */
 void image_cache_put(struct image_cache *c, const char *key, const unsigned char *bytes, size_t len,
                      const char *meta);
+/* What the entries cost, as counted against the budget. */
 uint64_t image_cache_bytes(struct image_cache *c);
 
 #endif

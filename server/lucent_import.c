@@ -1,5 +1,6 @@
-/* lucent_import.c - lucent-import: converts one mesh upload (bytes on stdin) to the compact form.
- * It runs assimp on hostile bytes, so the daemon starts it as a separate, limited process. */
+/* lucent_import.c - lucent-import: converts one mesh upload (bytes on stdin) to the compact form on
+ * fd 3. It runs assimp on hostile bytes: the daemon starts it limited, and it seals itself in seccomp. */
+#include "importer_seccomp.h"
 #include "lucent.h"
 #include "mesh.h"
 #include "mesh_compact.h"
@@ -11,7 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define USAGE "usage: lucent-import --format obj|ply|stl|gltf|glb --out PATH [--max-triangles N] < MESH"
+#define USAGE "usage: lucent-import --format obj|ply|stl|gltf|glb [--max-triangles N] < MESH 3> OUT.lmesh"
+#define OUT_FD 3
 #define EXIT_REFUSED 2
 
 /* One JSON line on stdout: the failure, then exit status 2. */
@@ -28,13 +30,13 @@ static int refuse(const lucent_error *e)
 }
 
 typedef struct options {
-    const char *format, *out;
+    const char *format;
     unsigned long max_triangles;
 } options;
 
 static lucent_status parse_args(int argc, char **argv, options *o, lucent_error *err)
 {
-    *o = (options){NULL, NULL, LUCENT_MAX_TRIANGLES};
+    *o = (options){NULL, LUCENT_MAX_TRIANGLES};
     for (int i = 1; i < argc; i += 2) {
         if (i + 1 >= argc)
             return lucent_fail(err, LUCENT_E_INVALID, argv[i], "missing value; " USAGE);
@@ -42,8 +44,6 @@ static lucent_status parse_args(int argc, char **argv, options *o, lucent_error 
         char *end;
         if (strcmp(name, "--format") == 0) {
             o->format = value;
-        } else if (strcmp(name, "--out") == 0) {
-            o->out = value;
         } else if (strcmp(name, "--max-triangles") == 0) {
             o->max_triangles = strtoul(value, &end, 10);
             if (o->max_triangles == 0 || *end)
@@ -52,7 +52,7 @@ static lucent_status parse_args(int argc, char **argv, options *o, lucent_error 
             return lucent_fail(err, LUCENT_E_INVALID, name, "unknown option; " USAGE);
         }
     }
-    if (!o->format || !o->out)
+    if (!o->format)
         return lucent_fail(err, LUCENT_E_INVALID, "", USAGE);
     return LUCENT_OK;
 }
@@ -86,27 +86,30 @@ static lucent_status read_stdin(unsigned char **data, size_t *len, lucent_error 
     return LUCENT_OK;
 }
 
-static lucent_status write_compact(const struct lucent_mesh *m, const char *path, lucent_error *err)
+static lucent_status write_compact(const struct lucent_mesh *m, FILE *f, lucent_error *err)
 {
-    FILE *f = fopen(path, "wb");
-    if (!f)
-        return lucent_fail(err, LUCENT_E_IO, "--out", "cannot create \"%s\"", path);
     lucent_status st = mesh_compact_write(m, f, err);
-    if (fclose(f) != 0 && st == LUCENT_OK)
-        st = lucent_fail(err, lucent_io_status(errno), "--out", "could not write \"%s\": %s", path, strerror(errno));
+    if (fflush(f) != 0 && st == LUCENT_OK)
+        st = lucent_fail(err, lucent_io_status(errno), "", "could not write the mesh to fd 3: %s", strerror(errno));
     return st;
+}
+
+/* Whatever would open a file or ask the kernel for more than the filter allows is done first: the
+ * output stream (fdopen checks the descriptor's mode) and jansson's hash seed (read from /dev/urandom). */
+static lucent_status seal(FILE **out, lucent_error *err)
+{
+    *out = fdopen(OUT_FD, "wb");
+    if (!*out)
+        return lucent_fail(err, LUCENT_E_INVALID, "", "fd 3 is not open for writing; " USAGE);
+    json_object_seed(0);
+    return importer_seccomp_enter(err);
 }
 
 /* Prints the success line; bounds are put back into the upload's coordinates. */
 static lucent_status report(const struct lucent_mesh *m, lucent_error *err)
 {
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (size_t v = 0; v < m->vertex_count; v++)
-        for (int k = 0; k < 3; k++) {
-            double x = m->center[k] + m->positions[3 * v + k];
-            lo[k] = fmin(lo[k], x);
-            hi[k] = fmax(hi[k], x);
-        }
+    double lo[3], hi[3];
+    mesh_bounds(m, lo, hi);
     json_t *doc = json_pack("{s:I, s:I, s:{s:[fff], s:[fff]}}", "triangles", (json_int_t)m->triangle_count,
                             "vertices", (json_int_t)m->vertex_count, "bounds", "min", lo[0], lo[1], lo[2], "max",
                             hi[0], hi[1], hi[2]);
@@ -124,7 +127,9 @@ int main(int argc, char **argv)
     unsigned char *data = NULL;
     size_t len = 0;
     lucent_mesh *m = NULL;
-    if (parse_args(argc, argv, &o, &err) != LUCENT_OK || read_stdin(&data, &len, &err) != LUCENT_OK)
+    FILE *out = NULL;
+    if (parse_args(argc, argv, &o, &err) != LUCENT_OK || seal(&out, &err) != LUCENT_OK ||
+        read_stdin(&data, &len, &err) != LUCENT_OK)
         return refuse(&err);
     lucent_status st = lucent_mesh_import_memory(data, len, o.format, &m, &err);
     free(data);
@@ -132,7 +137,7 @@ int main(int argc, char **argv)
         st = lucent_fail(&err, LUCENT_E_LIMIT, "mesh", "the mesh has %u triangles; at most %lu are accepted",
                          m->triangle_count, o.max_triangles);
     if (st == LUCENT_OK)
-        st = write_compact(m, o.out, &err);
+        st = write_compact(m, out, &err);
     if (st == LUCENT_OK)
         st = report(m, &err);
     lucent_mesh_free(m);

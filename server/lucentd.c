@@ -4,6 +4,9 @@
 #include "config.h"
 #include "http_server.h"
 #include "image_cache.h"
+#include "import_jail.h"
+#include "connection_guard.h"
+#include "resume_gate.h"
 #include "mesh_store.h"
 #include "metrics.h"
 #include "rate_limit.h"
@@ -90,12 +93,28 @@ static void drain(struct server *srv, struct MHD_Daemon *d)
     render_queue_cancel_all(srv->queue);
     upload_queue_cancel_all(srv->uploads);
     double flush = monotonic_seconds() + FLUSH_SECONDS;
+    resume_gate_wait(srv->resumes, flush); /* answers ready, not yet handed back to libmicrohttpd */
     while (http_connections(d) > 0 && monotonic_seconds() < flush)
         tick();
 }
 
 /* After the drain, how long the render worker may take to return from its last frame. */
 #define WORKER_STOP_SECONDS 5
+
+/* Stops libmicrohttpd once no other thread is still resuming one of its connections (a worker that
+ * finished a job just before the drain ended would otherwise call into a stopped daemon). -1: one
+ * is stuck, and stopping could only crash; the caller exits without it. */
+static int stop_http(struct server *srv, struct MHD_Daemon *d)
+{
+    int left = resume_gate_wait(srv->resumes, monotonic_seconds() + WORKER_STOP_SECONDS);
+    if (left > 0) {
+        log_line(LOG_ERROR, "%d connection(s) still being resumed after %d s; exiting without stopping HTTP", left,
+                 WORKER_STOP_SECONDS);
+        return -1;
+    }
+    MHD_stop_daemon(d);
+    return 0;
+}
 
 /* Blocks from 256 KiB up (images, render targets, meshes, bodies) are mapped and unmapped, so their
  * pages go back to the system when freed. glibc otherwise raises this threshold to the largest block
@@ -125,7 +144,9 @@ int main(int argc, char **argv)
     srv.metrics = metrics_create(route_labels, route_label_count);
     srv.cache = image_cache_create(srv.cfg.cache_bytes);
     srv.rate_limit = srv.cfg.rate_limit > 0 ? rate_limit_new(srv.cfg.rate_limit, srv.cfg.rate_burst) : NULL;
-    if (!srv.metrics || !srv.cache || (srv.cfg.rate_limit > 0 && !srv.rate_limit)) {
+    srv.resumes = resume_gate_create();
+    srv.guard = connection_guard_create(srv.cfg.request_timeout_s);
+    if (!srv.metrics || !srv.cache || (srv.cfg.rate_limit > 0 && !srv.rate_limit) || !srv.resumes || !srv.guard) {
         log_line(LOG_ERROR, "out of memory at start-up");
         goto done;
     }
@@ -133,18 +154,22 @@ int main(int argc, char **argv)
                                 .cpu_seconds = srv.cfg.import_cpu_s,
                                 .wall_seconds = srv.cfg.import_wall_s,
                                 .max_triangles = srv.cfg.max_triangles};
-    if (mesh_store_open(srv.cfg.store_dir, srv.cfg.store_bytes, srv.cfg.import_tool, &lim, &srv.store, &err) != LUCENT_OK)
+    if (import_jail_open(srv.cfg.import_tool, srv.cfg.import_user, &srv.jail, &err) != LUCENT_OK ||
+        mesh_import_self_test(srv.jail, &lim, &err) != LUCENT_OK)
+        goto fail;
+    log_line(LOG_INFO, "mesh importer sandbox: %s", import_jail_describe(srv.jail));
+    if (mesh_store_open(srv.cfg.store_dir, srv.cfg.store_bytes, srv.cfg.store_key, srv.jail, &lim, &srv.store, &err) != LUCENT_OK)
         goto fail;
     log_line(LOG_INFO, "mesh store %s: %llu bytes of %llu", srv.cfg.store_dir,
              (unsigned long long)mesh_store_bytes(srv.store), (unsigned long long)srv.cfg.store_bytes);
-    srv.uploads = upload_queue_create(srv.store, srv.cfg.max_imports);
+    srv.uploads = upload_queue_create(srv.store, srv.cfg.max_imports, srv.resumes);
     if (!srv.uploads) {
         log_line(LOG_ERROR, "out of memory at start-up");
         goto done;
     }
     double t0 = monotonic_seconds();
     srv.queue = render_queue_create(srv.cfg.queue_length, srv.cfg.device, srv.cfg.mesh_cache_bytes, srv.metrics,
-                                    srv.cache, &err);
+                                    srv.cache, srv.resumes, &err);
     if (!srv.queue)
         goto fail;
     uint16_t port = 0;
@@ -163,6 +188,10 @@ int main(int argc, char **argv)
              srv.cfg.max_projection_size, srv.cfg.render_timeout_s, srv.cfg.queue_length, srv.cfg.max_connections);
     while (!stop_signal) {
         render_queue_expire(srv.queue, monotonic_seconds());
+        int slow = connection_guard_sweep(srv.guard, monotonic_seconds());
+        if (slow > 0)
+            log_line(LOG_INFO, "closed %d connection(s) that took over %g s to send a request (--request-timeout)",
+                     slow, srv.cfg.request_timeout_s);
         tick();
     }
     log_line(LOG_INFO, "%s: draining (up to %g s)", stop_signal == SIGINT ? "SIGINT" : "SIGTERM",
@@ -170,7 +199,8 @@ int main(int argc, char **argv)
     atomic_store(&srv.phase, PHASE_DRAINING);
     MHD_socket listen_fd = MHD_quiesce_daemon(d);
     drain(&srv, d);
-    MHD_stop_daemon(d);
+    if (stop_http(&srv, d) != 0)
+        return 1;
     d = NULL;
     if (listen_fd != MHD_INVALID_SOCKET)
         close(listen_fd); /* quiesce hands the socket to us; closed only after the daemon stopped */
@@ -183,7 +213,8 @@ done:
     if (d) {
         render_queue_cancel_all(srv.queue);
         upload_queue_cancel_all(srv.uploads);
-        MHD_stop_daemon(d);
+        if (stop_http(&srv, d) != 0)
+            return 1;
     }
     upload_queue_destroy(srv.uploads); /* imports always complete: the store is never left half-written */
     if (render_queue_destroy(srv.queue, WORKER_STOP_SECONDS) != 0) {
@@ -193,9 +224,12 @@ done:
         return 1;
     }
     mesh_store_close(srv.store);
+    import_jail_close(srv.jail);
     lucent_shutdown();
     image_cache_destroy(srv.cache);
     rate_limit_free(srv.rate_limit);
     metrics_destroy(srv.metrics);
+    resume_gate_destroy(srv.resumes);
+    connection_guard_destroy(srv.guard);
     return rc;
 }

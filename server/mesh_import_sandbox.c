@@ -1,8 +1,9 @@
 /* mesh_import_sandbox.c - runs lucent-import in a child process under rlimits and a wall-clock
  * deadline, feeds it the upload and reads its one-line JSON answer (contract in the header). */
-#define _GNU_SOURCE /* close_range */
+#define _GNU_SOURCE /* pipe2 */
 
 #include "mesh_import_sandbox.h"
+#include "import_jail.h"
 #include "mesh_compact.h"
 
 #include <errno.h>
@@ -12,28 +13,23 @@
 #include <math.h>
 #include <poll.h>
 #include <signal.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 #define ANSWER_CAP 4096       /* the importer answers one short JSON line */
 #define LOG_CAP 4096          /* of its stderr, relayed to ours */
 #define CHUNK 65536
-#define CHILD_FILES 16        /* stdin, stdout, stderr, the output file, what the loader opens */
-#define EXIT_NOT_STARTED 127  /* as a shell reports a program it could not run */
-#define LIMIT_COUNT 5
-#define REAP_POLL_NS 5000000L
+#define CHILD_FILES 16        /* stdin, stdout, stderr, fd 3, its own file, what the loader opens */
+#define EXIT_NOT_STARTED 127  /* as import_jail.c exits when a layer cannot be set up */
 
-typedef struct child_setup {
-    char *argv[8];
-    char max_triangles[16];
-    int resources[LIMIT_COUNT];
-    struct rlimit limits[LIMIT_COUNT];
-} child_setup;
+static atomic_uint_fast64_t violations; /* importers the seccomp filter killed */
 
 typedef struct transcript {
     char answer[ANSWER_CAP + 1];
@@ -43,13 +39,6 @@ typedef struct transcript {
     size_t log_len;
 } transcript;
 
-static int64_t now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
-}
-
 static void close_fd(int *fd)
 {
     if (*fd >= 0)
@@ -57,54 +46,65 @@ static void close_fd(int *fd)
     *fd = -1;
 }
 
+lucent_status mesh_import_self_test(const struct import_jail *jail, const struct import_limits *lim,
+                                    lucent_error *err)
+{
+    static const char triangle[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    struct mesh_info info;
+    lucent_error why = {0};
+    int fd = memfd_create("lucent-import-self-test", MFD_CLOEXEC);
+    if (fd < 0)
+        return lucent_fail(err, LUCENT_E_INTERNAL, "", "memfd_create failed: %s", strerror(errno));
+    lucent_status st = mesh_import_isolated(jail, lim, triangle, sizeof triangle - 1, "obj", fd, &info, &why);
+    close(fd);
+    if (st != LUCENT_OK)
+        return lucent_fail(err, st, "", "the mesh importer's self-test failed: %s", why.message);
+    return LUCENT_OK;
+}
+
+uint64_t mesh_import_violations(void)
+{
+    return atomic_load(&violations);
+}
+
+/* The largest compact file the importer may write: no output holds more than LUCENT_MAX_TRIANGLES,
+ * nor more than 3 vertices a triangle. */
+static uint64_t output_cap(const struct import_limits *lim)
+{
+    uint32_t triangles = lim->max_triangles < LUCENT_MAX_TRIANGLES ? lim->max_triangles : LUCENT_MAX_TRIANGLES;
+    return mesh_compact_size(3 * triangles, triangles);
+}
+
 /* ---- starting the child ---- */
 
 /* A limit above the daemon's own hard limit cannot be set by an unprivileged child. */
-static void add_limit(child_setup *cs, int i, int resource, rlim_t soft, rlim_t hard)
+static void add_limit(struct import_child_spec *cs, int resource, rlim_t soft, rlim_t hard)
 {
     struct rlimit current;
     if (getrlimit(resource, &current) == 0 && current.rlim_max != RLIM_INFINITY) {
         soft = soft < current.rlim_max ? soft : current.rlim_max;
         hard = hard < current.rlim_max ? hard : current.rlim_max;
     }
+    int i = cs->limit_count++;
     cs->resources[i] = resource;
     cs->limits[i].rlim_cur = soft;
     cs->limits[i].rlim_max = hard;
 }
 
-static void prepare(child_setup *cs, const char *tool, const struct import_limits *lim, const char *ext,
-                    const char *out_path)
+static void prepare(struct import_child_spec *cs, char *argv[6], char max_triangles[16],
+                    const struct import_limits *lim, const char *ext)
 {
-    snprintf(cs->max_triangles, sizeof cs->max_triangles, "%u", lim->max_triangles);
-    char *argv[] = {(char *)tool, "--format", (char *)ext, "--out", (char *)out_path,
-                    "--max-triangles", cs->max_triangles, NULL};
-    memcpy(cs->argv, argv, sizeof argv);
-    /* no importer output holds more than LUCENT_MAX_TRIANGLES, nor more than 3 vertices a triangle */
-    uint32_t triangles = lim->max_triangles < LUCENT_MAX_TRIANGLES ? lim->max_triangles : LUCENT_MAX_TRIANGLES;
-    uint64_t file_bytes = mesh_compact_size(3 * triangles, triangles);
-    add_limit(cs, 0, RLIMIT_AS, lim->address_space_bytes, lim->address_space_bytes);
+    snprintf(max_triangles, 16, "%u", lim->max_triangles);
+    char *args[] = {"lucent-import", "--format", (char *)ext, "--max-triangles", max_triangles, NULL};
+    memcpy(argv, args, sizeof args);
+    *cs = (struct import_child_spec){.argv = argv};
+    add_limit(cs, RLIMIT_AS, lim->address_space_bytes, lim->address_space_bytes);
     /* the soft limit sends SIGXCPU, which ends it; the hard one SIGKILLs one second later */
-    add_limit(cs, 1, RLIMIT_CPU, (rlim_t)lim->cpu_seconds, (rlim_t)lim->cpu_seconds + 1);
-    add_limit(cs, 2, RLIMIT_FSIZE, file_bytes, file_bytes);
-    add_limit(cs, 3, RLIMIT_NOFILE, CHILD_FILES, CHILD_FILES);
-    add_limit(cs, 4, RLIMIT_CORE, 0, 0); /* crashes on hostile files must not fill the disk */
-}
-
-/* In the child between fork and exec. The daemon has other threads, so only calls that are plain
- * system calls (async-signal-safe in glibc) are made here. */
-_Noreturn static void child_exec(const child_setup *cs, int in, int out, int log)
-{
-    sigset_t none;
-    if (dup2(in, 0) < 0 || dup2(out, 1) < 0 || dup2(log, 2) < 0)
-        _exit(EXIT_NOT_STARTED);
-    close_range(3, ~0u, 0); /* the daemon's sockets and other imports' pipes */
-    sigemptyset(&none);
-    sigprocmask(SIG_SETMASK, &none, NULL);
-    for (int i = 0; i < LIMIT_COUNT; i++)
-        if (setrlimit(cs->resources[i], &cs->limits[i]) != 0)
-            _exit(EXIT_NOT_STARTED);
-    execv(cs->argv[0], cs->argv);
-    _exit(EXIT_NOT_STARTED);
+    add_limit(cs, RLIMIT_CPU, (rlim_t)lim->cpu_seconds, (rlim_t)lim->cpu_seconds + 1);
+    add_limit(cs, RLIMIT_FSIZE, output_cap(lim), output_cap(lim));
+    add_limit(cs, RLIMIT_NOFILE, CHILD_FILES, CHILD_FILES);
+    add_limit(cs, RLIMIT_CORE, 0, 0); /* crashes on hostile files must not fill the disk */
+    add_limit(cs, RLIMIT_NPROC, 0, 0); /* no fork, should the seccomp filter fail to stop one */
 }
 
 typedef struct child {
@@ -112,26 +112,27 @@ typedef struct child {
     int in_fd, out_fd, log_fd; /* the parent's ends; -1 once closed */
 } child;
 
-static lucent_status spawn(const child_setup *cs, child *c, lucent_error *err)
+static lucent_status spawn(const struct import_jail *jail, const struct import_child_spec *cs, int mesh_fd,
+                           child *c, lucent_error *err)
 {
     int in[2] = {-1, -1}, out[2] = {-1, -1}, log[2] = {-1, -1};
     /* a socket for stdin, so that send(MSG_NOSIGNAL) turns a child that stopped reading into EPIPE
      * instead of a SIGPIPE that would end the daemon */
-    if (socketpair(AF_UNIX, SOCK_STREAM, 0, in) != 0 || pipe(out) != 0 || pipe(log) != 0) {
+    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, in) != 0 || pipe2(out, O_CLOEXEC) != 0 ||
+        pipe2(log, O_CLOEXEC) != 0) {
         int e = errno;
         close_fd(&in[0]), close_fd(&in[1]), close_fd(&out[0]), close_fd(&out[1]), close_fd(&log[0]);
         close_fd(&log[1]);
         return lucent_fail(err, LUCENT_E_INTERNAL, "", "could not create pipes for the mesh importer: %s",
                            strerror(e));
     }
-    pid_t pid = fork();
-    if (pid == 0)
-        child_exec(cs, in[1], out[1], log[1]);
-    int e = errno;
+    int fds[4] = {in[1], out[1], log[1], mesh_fd};
+    pid_t pid = -1;
+    lucent_status st = import_jail_spawn(jail, cs, fds, &pid, err);
     close_fd(&in[1]), close_fd(&out[1]), close_fd(&log[1]);
-    if (pid < 0) {
+    if (st != LUCENT_OK) {
         close_fd(&in[0]), close_fd(&out[0]), close_fd(&log[0]);
-        return lucent_fail(err, LUCENT_E_INTERNAL, "", "could not start the mesh importer: %s", strerror(e));
+        return st;
     }
     fcntl(in[0], F_SETFL, fcntl(in[0], F_GETFL) | O_NONBLOCK);
     *c = (child){pid, in[0], out[0], log[0]};
@@ -167,7 +168,7 @@ static int exchange(child *c, const unsigned char *in, size_t len, int64_t deadl
     if (len == 0)
         close_fd(&c->in_fd);
     while (c->out_fd >= 0 || c->log_fd >= 0) {
-        int64_t left = deadline - now_ms();
+        int64_t left = deadline - import_jail_now_ms();
         if (left <= 0)
             return 1;
         struct pollfd p[3] = {{c->in_fd, POLLOUT, 0}, {c->out_fd, POLLIN, 0}, {c->log_fd, POLLIN, 0}};
@@ -190,27 +191,6 @@ static int exchange(child *c, const unsigned char *in, size_t len, int64_t deadl
             drain(&c->log_fd, t->log, LOG_CAP, &t->log_len, NULL);
     }
     return 0;
-}
-
-/* Waits for the child, killing it at the deadline. Returns 1 if it had to be killed, -1 if its
- * status is lost (the daemon must not set SIGCHLD to SIG_IGN). */
-static int reap(pid_t pid, int64_t deadline, int *status)
-{
-    int killed = 0;
-    for (;;) {
-        pid_t r = waitpid(pid, status, killed ? 0 : WNOHANG);
-        if (r == pid)
-            return killed;
-        if (r < 0 && errno != EINTR)
-            return -1;
-        if (r == 0 && now_ms() >= deadline) {
-            kill(pid, SIGKILL);
-            killed = 1;
-        } else if (r == 0) {
-            struct timespec pause = {0, REAP_POLL_NS};
-            nanosleep(&pause, NULL);
-        }
-    }
 }
 
 /* ---- its answer ---- */
@@ -267,9 +247,55 @@ static lucent_status parse_refusal(const transcript *t, const struct import_limi
     return st;
 }
 
-static lucent_status interpret(int status, const transcript *t, const char *tool, const struct import_limits *lim,
-                               struct mesh_info *info, lucent_error *err)
+static lucent_status unsound_output(const char *why, lucent_error *err)
 {
+    fprintf(stderr, "lucent: mesh importer: its output failed the daemon's check: %s\n", why);
+    return lucent_fail(err, LUCENT_E_MESH, "mesh", "the mesh importer's output failed the daemon's check (%.300s)",
+                       why);
+}
+
+/* The daemon's own reading of what the importer wrote: an importer a hostile file took over may write
+ * anything and describe it falsely, so the mesh must be sound, within the limits, and be the one the
+ * answer describes. */
+static lucent_status check_output(int fd, const struct import_limits *lim, const struct mesh_info *info,
+                                  lucent_error *err)
+{
+    struct stat st;
+    if (fstat(fd, &st) != 0)
+        return lucent_fail(err, LUCENT_E_INTERNAL, "", "cannot inspect the imported mesh: %s", strerror(errno));
+    if (st.st_size <= 0 || (uint64_t)st.st_size > output_cap(lim))
+        return unsound_output("its size is not that of a mesh within the limits", err);
+    size_t size = (size_t)st.st_size;
+    void *data = mmap(NULL, size, PROT_READ, MAP_PRIVATE, fd, 0);
+    if (data == MAP_FAILED)
+        return lucent_fail(err, LUCENT_E_NOMEM, "", "cannot map the imported mesh: %s", strerror(errno));
+    lucent_mesh *m = NULL;
+    lucent_error why = {0};
+    lucent_status read = mesh_compact_read(data, size, &m, &why);
+    munmap(data, size);
+    if (read != LUCENT_OK)
+        return unsound_output(why.message, err);
+    double lo[3], hi[3];
+    mesh_bounds(m, lo, hi);
+    int same = m->triangle_count == info->triangles && m->vertex_count == info->vertices;
+    for (int k = 0; k < 3; k++)
+        same = same && lo[k] == info->bounds_min[k] && hi[k] == info->bounds_max[k];
+    lucent_mesh_free(m);
+    return same ? LUCENT_OK : unsound_output("its answer does not describe the mesh it wrote", err);
+}
+
+static lucent_status interpret(int status, const transcript *t, const char *ext, size_t len,
+                               const struct import_limits *lim, int mesh_fd, struct mesh_info *info, lucent_error *err)
+{
+    if (WIFSIGNALED(status) && WTERMSIG(status) == SIGSYS) {
+        atomic_fetch_add(&violations, 1);
+        fprintf(stderr, "lucent: mesh importer: SANDBOX VIOLATION: killed by its seccomp filter for a system "
+                        "call parsing never makes (a %s upload of %zu bytes); see the importer's lines above\n",
+                ext, len);
+        return lucent_fail(err, LUCENT_E_MESH, "mesh",
+                           "the mesh importer was stopped by its sandbox: this file made it attempt a system call "
+                           "that parsing never needs (opening a file, a socket, a new process or a signal)");
+    }
     if (WIFSIGNALED(status) && WTERMSIG(status) == SIGXCPU)
         return lucent_fail(err, LUCENT_E_MESH, "mesh",
                            "the mesh importer used more than %d s of CPU time on this file and was stopped",
@@ -280,11 +306,15 @@ static lucent_status interpret(int status, const transcript *t, const char *tool
     int code = WEXITSTATUS(status);
     if (code == EXIT_NOT_STARTED)
         return lucent_fail(err, LUCENT_E_INTERNAL, "",
-                           "could not start the mesh importer \"%s\": it is missing, not executable, or "
-                           "cannot load within %zu MiB of address space", tool, lim->address_space_bytes >> 20);
+                           "could not start the mesh importer: its sandbox could not be set up, or it cannot load "
+                           "within %zu MiB of address space (its lines above say which)",
+                           lim->address_space_bytes >> 20);
     if (t->answer_overflow || (code != 0 && code != 2))
         return lucent_fail(err, LUCENT_E_INTERNAL, "", "the mesh importer failed (exit status %d)", code);
-    return code == 0 ? parse_info(t, lim, info, err) : parse_refusal(t, lim, err);
+    if (code != 0)
+        return parse_refusal(t, lim, err);
+    lucent_status st = parse_info(t, lim, info, err);
+    return st == LUCENT_OK ? check_output(mesh_fd, lim, info, err) : st;
 }
 
 static int known_ext(const char *ext)
@@ -318,9 +348,9 @@ static void relay_log(const char *log, size_t len)
     }
 }
 
-lucent_status mesh_import_isolated(const char *import_tool, const struct import_limits *lim, const void *bytes,
-                                   size_t len, const char *ext, const char *out_path, struct mesh_info *info,
-                                   lucent_error *err)
+lucent_status mesh_import_isolated(const struct import_jail *jail, const struct import_limits *lim,
+                                   const void *bytes, size_t len, const char *ext, int mesh_fd,
+                                   struct mesh_info *info, lucent_error *err)
 {
     if (lim->address_space_bytes == 0 || lim->cpu_seconds <= 0 || lim->wall_seconds <= 0 ||
         lim->max_triangles == 0)
@@ -328,20 +358,19 @@ lucent_status mesh_import_isolated(const char *import_tool, const struct import_
     if (!known_ext(ext))
         return lucent_fail(err, LUCENT_E_INVALID, "Content-Type",
                            "unsupported mesh format \"%.16s\"; send OBJ, PLY, STL, glTF or GLB", ext ? ext : "");
-    child_setup cs;
+    struct import_child_spec cs;
+    char *argv[6], max_triangles[16];
     child c = {-1, -1, -1, -1};
     transcript t = {.answer_len = 0};
     int status = 0;
-    prepare(&cs, import_tool, lim, ext, out_path);
-    lucent_status st = spawn(&cs, &c, err);
+    prepare(&cs, argv, max_triangles, lim, ext);
+    lucent_status st = spawn(jail, &cs, mesh_fd, &c, err);
     if (st != LUCENT_OK)
         return st;
-    int64_t deadline = now_ms() + 1000 * (int64_t)lim->wall_seconds;
+    int64_t deadline = import_jail_now_ms() + 1000 * (int64_t)lim->wall_seconds;
     int exchanged = exchange(&c, bytes, len, deadline, &t);
     close_fd(&c.in_fd), close_fd(&c.out_fd), close_fd(&c.log_fd);
-    if (exchanged != 0)
-        kill(c.pid, SIGKILL);
-    int reaped = reap(c.pid, deadline, &status);
+    int reaped = import_jail_reap(c.pid, exchanged != 0 ? 0 : deadline, &status);
     relay_log(t.log, t.log_len);
 
     if (exchanged < 0)
@@ -355,5 +384,5 @@ lucent_status mesh_import_isolated(const char *import_tool, const struct import_
                            lim->wall_seconds);
     info->bytes = len;
     info->created = 0;
-    return interpret(status, &t, import_tool, lim, info, err);
+    return interpret(status, &t, ext, len, lim, mesh_fd, info, err);
 }

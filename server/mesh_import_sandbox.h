@@ -9,7 +9,7 @@
 #include <stdint.h>
 
 /* Every field must be positive. The importer's output file is limited to the compact size of
- * max_triangles triangles; it has 16 descriptors and no core dumps. */
+ * max_triangles triangles; it has 16 descriptors, no core dumps and no child processes. */
 struct import_limits {
     size_t address_space_bytes; /* RLIMIT_AS of the importer */
     int cpu_seconds;            /* RLIMIT_CPU */
@@ -25,16 +25,27 @@ struct mesh_info {
     int64_t created; /* Unix time the store kept it; 0 from mesh_import_isolated */
 };
 
-/* Runs `import_tool --format EXT --out OUT_PATH --max-triangles N` with the bytes on its standard
- * input and the limits applied, and fills info from its answer. out_path must be writable; it holds
- * the compact mesh on success and anything on failure (the caller removes it). A crash, a
- * timeout or exceeding the CPU limit fails with LUCENT_E_MESH; the importer's own refusals keep
- * their status and message (out of memory becomes LUCENT_E_LIMIT); all of these name the field
- * "mesh", the upload as a whole. An ext other than the five is LUCENT_E_INVALID ("Content-Type");
- * failing to run the importer is LUCENT_E_INTERNAL. The daemon must not set SIGCHLD to SIG_IGN. */
-lucent_status mesh_import_isolated(const char *import_tool, const struct import_limits *lim, const void *bytes,
-                                   size_t len, const char *ext, const char *out_path, struct mesh_info *info,
-                                   lucent_error *err);
+struct import_jail;
+
+/* Runs lucent-import in the jail (import_jail.h) as `lucent-import --format EXT --max-triangles N`,
+ * the bytes on its standard input, mesh_fd (a regular file, empty, open for reading and writing) as
+ * its fd 3, under the limits. Its answer is not trusted: the daemon reads the mesh back from mesh_fd
+ * and it must be sound and match the answer; info is then filled. A crash, a timeout, exceeding the
+ * CPU limit, a sandbox violation (counted, and logged) or unsound output fail with LUCENT_E_MESH; the
+ * importer's own refusals keep their status and message (out of memory becomes LUCENT_E_LIMIT); all
+ * of these name the field "mesh", the upload as a whole. An ext other than the five is
+ * LUCENT_E_INVALID ("Content-Type"); failing to run the importer is LUCENT_E_INTERNAL. */
+lucent_status mesh_import_isolated(const struct import_jail *jail, const struct import_limits *lim,
+                                   const void *bytes, size_t len, const char *ext, int mesh_fd,
+                                   struct mesh_info *info, lucent_error *err);
+
+/* Imports a built-in triangle through the whole sandbox, its output in memory: run at start, so that
+ * a sandbox this machine cannot set up stops the daemon then, with the reason, not every upload. */
+lucent_status mesh_import_self_test(const struct import_jail *jail, const struct import_limits *lim,
+                                    lucent_error *err);
+
+/* Importers the sandbox stopped (killed for a forbidden system call) since the daemon started. */
+uint64_t mesh_import_violations(void);
 
 /* obj/ply/stl/gltf/glb of an upload: a mesh Content-Type (parameters ignored) names it unless the
  * first bytes are recognizably another format (then NULL: they contradict it); any other type,

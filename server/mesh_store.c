@@ -1,6 +1,10 @@
 /* mesh_store.c - the content-addressed mesh store (contract in mesh_store.h). Every file appears by
- * rename of an fsynced temporary; the metadata file is renamed last, so it marks a complete entry. */
+ * rename of an fsynced temporary; the metadata file, renamed last, marks a complete entry and holds
+ * the mesh's MAC, checked whenever the mesh file is not the one last checked. */
+#define _GNU_SOURCE /* mkostemp */
+
 #include "mesh_store.h"
+#include "store_integrity.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -18,13 +22,25 @@
 #include <unistd.h>
 
 #define TEMP_PREFIX ".tmp-"
+#define DEFAULT_KEY_NAME "store.key"
 #define ID_LEN 64
 #define NAME_SLACK 80 /* "/", an id, an extension, a temporary's suffix */
 
+/* What identifies one version of a file: any write, rename or chmod changes ctime, which no one can set. */
+struct file_stamp {
+    dev_t dev;
+    ino_t ino;
+    off_t size;
+    struct timespec mtime, ctime;
+};
+
 struct store_entry {
     char id[ID_LEN + 1];
+    char mac[STORE_MAC_HEX + 1];
     struct mesh_info info;
-    uint64_t disk_bytes; /* both files */
+    uint64_t disk_bytes;        /* both files */
+    int64_t last_used;          /* the store's clock at its last put or get */
+    struct file_stamp checked;  /* the mesh file as its MAC was last found right; ino 0: not yet */
 };
 
 /* Ids being imported now: a second put of the same bytes waits for the first instead of importing
@@ -35,11 +51,16 @@ struct mesh_store {
     pthread_mutex_t lock;
     pthread_cond_t imported;            /* an import of `importing` ended */
     char importing[MAX_IMPORTING][ID_LEN + 1];
-    char *dir, *import_tool;
+    char *dir;
+    unsigned char key[STORE_KEY_BYTES];
+    const struct import_jail *jail;
     struct import_limits lim;
     uint64_t budget, used;
     struct store_entry *entries;
     size_t count, cap;
+    int64_t clock;              /* ticks at each put and get; starts past every creation time */
+    uint32_t *slots;            /* hash index: entry index + 1, 0 empty; linear probing */
+    size_t slot_count;          /* a power of two, at least twice cap */
 };
 
 int mesh_id_valid(const char *id)
@@ -77,19 +98,45 @@ static void entry_path(const struct mesh_store *s, const char *id, const char *e
 /* The directory entry of a rename or unlink is durable only once the directory is synced. */
 static int sync_dir(const char *dir)
 {
-    int fd = open(dir, O_RDONLY | O_DIRECTORY);
+    int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     int ok = fd >= 0 && fsync(fd) == 0;
     if (fd >= 0)
         close(fd);
     return ok;
 }
 
+/* Ids are sha256 digests: their first 16 hex digits are already a uniform hash. */
+static size_t id_slot(const struct mesh_store *s, const char *id)
+{
+    uint64_t h = 0;
+    for (int i = 0; i < 16; i++)
+        h = h << 4 | (uint64_t)(id[i] <= '9' ? id[i] - '0' : id[i] - 'a' + 10);
+    return (size_t)h & (s->slot_count - 1);
+}
+
 static struct store_entry *index_find(struct mesh_store *s, const char *id)
 {
-    for (size_t i = 0; i < s->count; i++)
-        if (strcmp(s->entries[i].id, id) == 0)
-            return &s->entries[i];
+    if (!s->slot_count || !mesh_id_valid(id))
+        return NULL;
+    for (size_t i = id_slot(s, id); s->slots[i]; i = (i + 1) & (s->slot_count - 1))
+        if (strcmp(s->entries[s->slots[i] - 1].id, id) == 0)
+            return &s->entries[s->slots[i] - 1];
     return NULL;
+}
+
+static void slot_insert(struct mesh_store *s, size_t entry)
+{
+    size_t i = id_slot(s, s->entries[entry].id);
+    while (s->slots[i])
+        i = (i + 1) & (s->slot_count - 1);
+    s->slots[i] = (uint32_t)entry + 1;
+}
+
+static void index_rebuild(struct mesh_store *s)
+{
+    memset(s->slots, 0, s->slot_count * sizeof *s->slots);
+    for (size_t k = 0; k < s->count; k++)
+        slot_insert(s, k);
 }
 
 /* Makes room for one more entry, so that adding it after the files are in place cannot fail. */
@@ -99,27 +146,58 @@ static lucent_status index_reserve(struct mesh_store *s, lucent_error *err)
         return LUCENT_OK;
     size_t cap = s->cap ? 2 * s->cap : 64;
     struct store_entry *grown = realloc(s->entries, cap * sizeof *grown);
-    if (!grown)
+    uint32_t *slots = cap <= UINT32_MAX / 2 ? calloc(2 * cap, sizeof *slots) : NULL;
+    if (grown)
+        s->entries = grown;
+    if (!grown || !slots) {
+        free(slots);
         return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory indexing the mesh store");
-    s->entries = grown;
+    }
+    free(s->slots);
+    s->slots = slots;
+    s->slot_count = 2 * cap;
     s->cap = cap;
+    index_rebuild(s);
     return LUCENT_OK;
 }
 
-static void index_add(struct mesh_store *s, const char *id, const struct mesh_info *info, uint64_t disk_bytes)
+/* Removes an entry and its files (the metadata first: without it the entry is gone, and a mesh file
+ * left behind is removed at the next open). The caller syncs the directory after unlocking. */
+static int remove_entry_locked(struct mesh_store *s, struct store_entry *e)
+{
+    char mesh_path[PATH_MAX], meta_path[PATH_MAX];
+    entry_path(s, e->id, "lmesh", mesh_path);
+    entry_path(s, e->id, "json", meta_path);
+    if (unlink(meta_path) != 0 && errno != ENOENT)
+        return -1;
+    unlink(mesh_path);
+    s->used -= e->disk_bytes;
+    *e = s->entries[--s->count];
+    index_rebuild(s);
+    return 0;
+}
+
+static void index_add(struct mesh_store *s, const char *id, const char *mac, const struct mesh_info *info,
+                      uint64_t disk_bytes)
 {
     struct store_entry *e = &s->entries[s->count++];
+    memset(e, 0, sizeof *e);
     snprintf(e->id, sizeof e->id, "%s", id);
+    snprintf(e->mac, sizeof e->mac, "%s", mac);
     e->info = *info;
     e->disk_bytes = disk_bytes;
+    e->last_used = info->created > s->clock ? info->created : ++s->clock; /* at open: by creation */
+    if (e->last_used > s->clock)
+        s->clock = e->last_used;
     s->used += disk_bytes;
+    slot_insert(s, s->count - 1);
 }
 
 /* ---- metadata ---- */
 
-static char *metadata_text(const char *id, const struct mesh_info *m)
+static char *metadata_text(const char *id, const char *mac, const struct mesh_info *m)
 {
-    json_t *doc = json_pack("{s:s, s:I, s:I, s:{s:[fff], s:[fff]}, s:I, s:I}", "id", id, "triangles",
+    json_t *doc = json_pack("{s:s, s:s, s:I, s:I, s:{s:[fff], s:[fff]}, s:I, s:I}", "id", id, "mac", mac, "triangles",
                             (json_int_t)m->triangles, "vertices", (json_int_t)m->vertices, "bounds", "min",
                             m->bounds_min[0], m->bounds_min[1], m->bounds_min[2], "max", m->bounds_max[0],
                             m->bounds_max[1], m->bounds_max[2], "bytes", (json_int_t)m->bytes, "created",
@@ -130,21 +208,23 @@ static char *metadata_text(const char *id, const struct mesh_info *m)
 }
 
 /* Reads <id>.json back; 0 when it is not exactly what metadata_text writes for this id. */
-static int metadata_read(const char *path, const char *id, struct mesh_info *m)
+static int metadata_read(const char *path, const char *id, char mac[STORE_MAC_HEX + 1], struct mesh_info *m)
 {
     json_error_t jerr;
-    const char *stored_id;
+    const char *stored_id, *stored_mac;
     json_int_t triangles, vertices, bytes, created;
     double *lo = m->bounds_min, *hi = m->bounds_max;
     json_t *doc = json_load_file(path, JSON_REJECT_DUPLICATES, &jerr);
-    int ok = doc && json_unpack_ex(doc, &jerr, JSON_STRICT, "{s:s, s:I, s:I, s:{s:[FFF], s:[FFF]}, s:I, s:I}",
-                                   "id", &stored_id, "triangles", &triangles, "vertices", &vertices, "bounds",
+    int ok = doc && json_unpack_ex(doc, &jerr, JSON_STRICT, "{s:s, s:s, s:I, s:I, s:{s:[FFF], s:[FFF]}, s:I, s:I}",
+                                   "id", &stored_id, "mac", &stored_mac, "triangles", &triangles, "vertices", &vertices, "bounds",
                                    "min", &lo[0], &lo[1], &lo[2], "max", &hi[0], &hi[1], &hi[2], "bytes", &bytes,
                                    "created", &created) == 0;
-    ok = ok && strcmp(stored_id, id) == 0 && triangles >= 1 && triangles <= LUCENT_MAX_TRIANGLES &&
+    ok = ok && strcmp(stored_id, id) == 0 && strlen(stored_mac) == STORE_MAC_HEX && triangles >= 1 && triangles <= LUCENT_MAX_TRIANGLES &&
          vertices >= 1 && vertices <= 3 * triangles && bytes >= 0 && created >= 0;
     for (int k = 0; ok && k < 3; k++)
         ok = isfinite(lo[k]) && isfinite(hi[k]) && lo[k] <= hi[k];
+    if (ok)
+        memcpy(mac, stored_mac, STORE_MAC_HEX + 1);
     json_decref(doc);
     if (ok) {
         m->triangles = (uint32_t)triangles;
@@ -160,7 +240,7 @@ static int metadata_read(const char *path, const char *id, struct mesh_info *m)
 static lucent_status make_temp(const struct mesh_store *s, char path[PATH_MAX], int *fd, lucent_error *err)
 {
     snprintf(path, PATH_MAX, "%s/" TEMP_PREFIX "XXXXXX", s->dir);
-    *fd = mkstemp(path);
+    *fd = mkostemp(path, O_CLOEXEC);
     if (*fd < 0) {
         path[0] = '\0';
         return lucent_fail(err, lucent_io_status(errno), "", "cannot create a file in the mesh store: %s",
@@ -195,11 +275,12 @@ static lucent_status sync_file(int fd, uint64_t *size, lucent_error *err)
     return LUCENT_OK;
 }
 
-static lucent_status write_metadata(const struct mesh_store *s, const char *id, const struct mesh_info *info,
-                                    char path[PATH_MAX], uint64_t *size, lucent_error *err)
+static lucent_status write_metadata(const struct mesh_store *s, const char *id, const char *mac,
+                                    const struct mesh_info *info, char path[PATH_MAX], uint64_t *size,
+                                    lucent_error *err)
 {
     int fd;
-    char *text = metadata_text(id, info);
+    char *text = metadata_text(id, mac, info);
     if (!text)
         return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory writing mesh metadata");
     lucent_status st = make_temp(s, path, &fd, err);
@@ -230,12 +311,13 @@ static int index_existing(struct mesh_store *s, const char *id)
     char mesh_path[PATH_MAX], meta_path[PATH_MAX];
     struct stat mesh_st, meta_st;
     struct mesh_info info;
+    char mac[STORE_MAC_HEX + 1];
     entry_path(s, id, "lmesh", mesh_path);
     entry_path(s, id, "json", meta_path);
     if (stat(mesh_path, &mesh_st) != 0 || !S_ISREG(mesh_st.st_mode) || stat(meta_path, &meta_st) != 0 ||
-        !metadata_read(meta_path, id, &info) || index_reserve(s, NULL) != LUCENT_OK)
+        !metadata_read(meta_path, id, mac, &info) || index_reserve(s, NULL) != LUCENT_OK)
         return 0;
-    index_add(s, id, &info, (uint64_t)mesh_st.st_size + (uint64_t)meta_st.st_size);
+    index_add(s, id, mac, &info, (uint64_t)mesh_st.st_size + (uint64_t)meta_st.st_size);
     return 1;
 }
 
@@ -273,10 +355,12 @@ static lucent_status scan(struct mesh_store *s, lucent_error *err)
     return LUCENT_OK;
 }
 
-lucent_status mesh_store_open(const char *dir, uint64_t byte_budget, const char *import_tool,
-                              const struct import_limits *lim, struct mesh_store **out, lucent_error *err)
+lucent_status mesh_store_open(const char *dir, uint64_t byte_budget, const char *key_file,
+                              const struct import_jail *jail, const struct import_limits *lim,
+                              struct mesh_store **out, lucent_error *err)
 {
     struct stat st;
+    char default_key[PATH_MAX];
     *out = NULL;
     if (strlen(dir) + NAME_SLACK >= PATH_MAX)
         return lucent_fail(err, LUCENT_E_INVALID, "", "the mesh store path is too long");
@@ -287,6 +371,10 @@ lucent_status mesh_store_open(const char *dir, uint64_t byte_budget, const char 
     if (access(dir, W_OK | X_OK) != 0)
         return lucent_fail(err, LUCENT_E_IO, "", "the mesh store directory \"%s\" is not writable: %s", dir,
                            strerror(errno));
+    if (!key_file || !key_file[0]) {
+        snprintf(default_key, sizeof default_key, "%s/" DEFAULT_KEY_NAME, dir);
+        key_file = default_key;
+    }
     struct mesh_store *s = calloc(1, sizeof *s);
     if (!s)
         return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory opening the mesh store");
@@ -295,10 +383,11 @@ lucent_status mesh_store_open(const char *dir, uint64_t byte_budget, const char 
     s->budget = byte_budget;
     s->lim = *lim;
     s->dir = strdup(dir);
-    s->import_tool = strdup(import_tool);
-    lucent_status status = s->dir && s->import_tool
-                               ? scan(s, err)
-                               : lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory opening the mesh store");
+    s->jail = jail;
+    lucent_status status = s->dir ? store_key_load(key_file, s->key, err)
+                                  : lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory opening the mesh store");
+    if (status == LUCENT_OK)
+        status = scan(s, err);
     if (status != LUCENT_OK) {
         mesh_store_close(s);
         return status;
@@ -314,26 +403,60 @@ void mesh_store_close(struct mesh_store *s)
     pthread_mutex_destroy(&s->lock);
     pthread_cond_destroy(&s->imported);
     free(s->entries);
+    free(s->slots);
     free(s->dir);
-    free(s->import_tool);
     free(s);
+}
+
+/* ---- file versions ---- */
+
+static void stamp_of(const struct stat *st, struct file_stamp *out)
+{
+    *out = (struct file_stamp){st->st_dev, st->st_ino, st->st_size, st->st_mtim, st->st_ctim};
+}
+
+/* Leaves the stamp zero (not checked) when the file cannot be seen. */
+static void stamp_file(const char *path, struct file_stamp *out)
+{
+    struct stat st;
+    memset(out, 0, sizeof *out);
+    if (stat(path, &st) == 0)
+        stamp_of(&st, out);
+}
+
+static int same_stamp(const struct file_stamp *a, const struct file_stamp *b)
+{
+    return a->ino != 0 && a->dev == b->dev && a->ino == b->ino && a->size == b->size &&
+           a->mtime.tv_sec == b->mtime.tv_sec && a->mtime.tv_nsec == b->mtime.tv_nsec &&
+           a->ctime.tv_sec == b->ctime.tv_sec && a->ctime.tv_nsec == b->ctime.tv_nsec;
 }
 
 /* ---- putting ---- */
 
-/* needed = 0 when the store is full before the upload is even imported */
 static lucent_status over_budget(const struct mesh_store *s, uint64_t needed, lucent_error *err)
 {
-    char need[64] = "";
-    if (needed > 0)
-        snprintf(need, sizeof need, " and this mesh needs %llu", (unsigned long long)needed);
-    return lucent_fail(err, LUCENT_E_LIMIT, "mesh",
-                       "the mesh store is full: it holds %llu of its %llu bytes%s; delete meshes to make room",
-                       (unsigned long long)s->used, (unsigned long long)s->budget, need);
+    return lucent_fail(err, LUCENT_E_LIMIT, "mesh", "this mesh needs %llu bytes in the store, more than its whole "
+                       "budget of %llu (--store-bytes)", (unsigned long long)needed, (unsigned long long)s->budget);
+}
+
+/* Makes room for `needed` more bytes by removing the least recently used meshes. */
+static void evict_locked(struct mesh_store *s, uint64_t needed)
+{
+    while (s->count > 0 && s->used + needed > s->budget) {
+        struct store_entry *oldest = &s->entries[0];
+        for (size_t k = 1; k < s->count; k++)
+            if (s->entries[k].last_used < oldest->last_used)
+                oldest = &s->entries[k];
+        char id[ID_LEN + 1];
+        memcpy(id, oldest->id, sizeof id);
+        if (remove_entry_locked(s, oldest) != 0)
+            return; /* cannot delete: the put is refused as over budget */
+        fprintf(stderr, "lucent: mesh store: evicted mesh %s, the least recently used, to make room\n", id);
+    }
 }
 
 /* Moves both temporaries into place under the lock; clears their names once they are renamed. */
-static lucent_status commit(struct mesh_store *s, const char *id, char *tmp_mesh, char *tmp_meta,
+static lucent_status commit(struct mesh_store *s, const char *id, const char *mac, char *tmp_mesh, char *tmp_meta,
                             uint64_t disk_bytes, struct mesh_info *info, int *created, lucent_error *err)
 {
     char mesh_path[PATH_MAX], meta_path[PATH_MAX];
@@ -346,10 +469,11 @@ static lucent_status commit(struct mesh_store *s, const char *id, char *tmp_mesh
         *info = existing->info;
         goto unlock;
     }
-    if (s->used + disk_bytes > s->budget) {
+    if (disk_bytes > s->budget) {
         st = over_budget(s, disk_bytes, err);
         goto unlock;
     }
+    evict_locked(s, disk_bytes);
     if ((st = index_reserve(s, err)) != LUCENT_OK)
         goto unlock;
     if (rename(tmp_mesh, mesh_path) != 0) {
@@ -363,12 +487,14 @@ static lucent_status commit(struct mesh_store *s, const char *id, char *tmp_mesh
         goto unlock;
     }
     tmp_meta[0] = '\0';
-    index_add(s, id, info, disk_bytes);
+    index_add(s, id, mac, info, disk_bytes);
+    stamp_file(mesh_path, &s->entries[s->count - 1].checked); /* as renamed: the MAC was computed just now */
     *created = 1;
-    if (!sync_dir(s->dir)) /* the entry exists; only its durability is in doubt */
-        st = lucent_fail(err, LUCENT_E_IO, "", "cannot sync the mesh store directory: %s", strerror(errno));
 unlock:
     pthread_mutex_unlock(&s->lock);
+    /* outside the lock: a sync takes milliseconds to seconds, and every render's get takes the lock */
+    if (*created && !sync_dir(s->dir)) /* the entry exists; only its durability is in doubt */
+        st = lucent_fail(err, LUCENT_E_IO, "", "cannot sync the mesh store directory: %s", strerror(errno));
     return st;
 }
 
@@ -387,6 +513,7 @@ lucent_status mesh_store_put(struct mesh_store *s, const void *bytes, size_t len
     char tmp_mesh[PATH_MAX] = "", tmp_meta[PATH_MAX] = "";
     uint64_t mesh_bytes = 0, meta_bytes = 0;
     int fd = -1;
+    char mac[STORE_MAC_HEX + 1];
     lucent_status st;
     *created = 0;
     const char *ext = mesh_format_sniff(content_type, bytes, len);
@@ -410,8 +537,6 @@ lucent_status mesh_store_put(struct mesh_store *s, const void *bytes, size_t len
         pthread_cond_wait(&s->imported, &s->lock);
     if (existing)
         *info = existing->info;
-    else if (s->used >= s->budget)
-        st = over_budget(s, 0, err);
     slot = existing || st != LUCENT_OK ? -1 : importing_slot(s, "");
     if (slot >= 0)
         memcpy(s->importing[slot], id_out, ID_LEN + 1);
@@ -421,13 +546,14 @@ lucent_status mesh_store_put(struct mesh_store *s, const void *bytes, size_t len
 
     /* importing takes seconds: the lock is not held, so gets and other puts go on meanwhile */
     if ((st = make_temp(s, tmp_mesh, &fd, err)) != LUCENT_OK ||
-        (st = mesh_import_isolated(s->import_tool, &s->lim, bytes, len, ext, tmp_mesh, info, err)) != LUCENT_OK ||
-        (st = sync_file(fd, &mesh_bytes, err)) != LUCENT_OK)
+        (st = mesh_import_isolated(s->jail, &s->lim, bytes, len, ext, fd, info, err)) != LUCENT_OK ||
+        (st = sync_file(fd, &mesh_bytes, err)) != LUCENT_OK ||
+        (st = store_mac_of_file(s->key, id_out, fd, mac, err)) != LUCENT_OK)
         goto done;
     info->created = (int64_t)time(NULL);
-    if ((st = write_metadata(s, id_out, info, tmp_meta, &meta_bytes, err)) != LUCENT_OK)
+    if ((st = write_metadata(s, id_out, mac, info, tmp_meta, &meta_bytes, err)) != LUCENT_OK)
         goto done;
-    st = commit(s, id_out, tmp_mesh, tmp_meta, mesh_bytes + meta_bytes, info, created, err);
+    st = commit(s, id_out, mac, tmp_mesh, tmp_meta, mesh_bytes + meta_bytes, info, created, err);
 done:
     if (fd >= 0)
         close(fd);
@@ -451,47 +577,97 @@ static lucent_status absent(const char *id, lucent_error *err)
     return lucent_fail(err, LUCENT_E_INVALID, "mesh.id", "no mesh with id %s", id);
 }
 
+/* Drops an entry whose mesh failed its check; its files go with it (they are not what was stored). */
+static lucent_status damaged(struct mesh_store *s, const char *id, const char *why, lucent_error *err)
+{
+    fprintf(stderr, "lucent: mesh store: mesh %s failed its integrity check (%s); removed\n", id, why);
+    pthread_mutex_lock(&s->lock);
+    struct store_entry *e = index_find(s, id);
+    int removed = e && remove_entry_locked(s, e) == 0;
+    pthread_mutex_unlock(&s->lock);
+    if (removed)
+        sync_dir(s->dir);
+    return lucent_fail(err, LUCENT_E_IO, "mesh.id",
+                       "the stored mesh %s failed its integrity check (%s) and was removed; upload it again", id, why);
+}
+
+/* The mesh file must be the one its MAC was computed over: checked again whenever the file is not the
+ * version last checked, outside the lock (hashing a large mesh takes a while). */
+static lucent_status verify(struct mesh_store *s, const char *id, const char *path, const char *mac,
+                            const struct file_stamp *checked, lucent_error *err)
+{
+    struct stat st;
+    struct file_stamp now;
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
+    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        if (fd >= 0)
+            close(fd);
+        return damaged(s, id, "its file is missing or not a regular file", err);
+    }
+    stamp_of(&st, &now);
+    if (same_stamp(checked, &now)) {
+        close(fd);
+        return LUCENT_OK;
+    }
+    char found[STORE_MAC_HEX + 1];
+    lucent_status status = store_mac_of_file(s->key, id, fd, found, err);
+    close(fd);
+    if (status != LUCENT_OK)
+        return status;
+    if (strcmp(found, mac) != 0)
+        return damaged(s, id, "its file changed after it was stored", err);
+    pthread_mutex_lock(&s->lock);
+    struct store_entry *e = index_find(s, id);
+    if (e && strcmp(e->mac, mac) == 0)
+        e->checked = now;
+    pthread_mutex_unlock(&s->lock);
+    return LUCENT_OK;
+}
+
 lucent_status mesh_store_get(struct mesh_store *s, const char *id, struct mesh_info *info, char *path, size_t cap,
                              lucent_error *err)
 {
     lucent_status st = check_id(id, err);
     if (st != LUCENT_OK)
         return st;
+    char mac[STORE_MAC_HEX + 1];
+    struct file_stamp checked = {0};
+    struct mesh_info found = {0};
     pthread_mutex_lock(&s->lock);
-    const struct store_entry *e = index_find(s, id);
-    if (!e)
-        st = absent(id, err);
-    else if ((size_t)snprintf(path, cap, "%s/%s.lmesh", s->dir, id) >= cap)
-        st = lucent_fail(err, LUCENT_E_INTERNAL, "", "the buffer for the mesh path is too small");
-    else if (info)
-        *info = e->info;
+    struct store_entry *e = index_find(s, id);
+    int present = e != NULL;
+    if (present) {
+        memcpy(mac, e->mac, sizeof mac);
+        checked = e->checked;
+        found = e->info;
+        e->last_used = ++s->clock;
+    }
     pthread_mutex_unlock(&s->lock);
-    return st;
+    if (!present)
+        return absent(id, err);
+    if ((size_t)snprintf(path, cap, "%s/%s.lmesh", s->dir, id) >= cap)
+        return lucent_fail(err, LUCENT_E_INTERNAL, "", "the buffer for the mesh path is too small");
+    if ((st = verify(s, id, path, mac, &checked, err)) != LUCENT_OK)
+        return st;
+    if (info)
+        *info = found;
+    return LUCENT_OK;
 }
 
 lucent_status mesh_store_delete(struct mesh_store *s, const char *id, lucent_error *err)
 {
-    char mesh_path[PATH_MAX], meta_path[PATH_MAX];
     lucent_status st = check_id(id, err);
     if (st != LUCENT_OK)
         return st;
-    entry_path(s, id, "lmesh", mesh_path);
-    entry_path(s, id, "json", meta_path);
     pthread_mutex_lock(&s->lock);
     struct store_entry *e = index_find(s, id);
-    if (!e) {
+    if (!e)
         st = absent(id, err);
-    } else if (unlink(meta_path) != 0 && errno != ENOENT) {
+    else if (remove_entry_locked(s, e) != 0)
         st = lucent_fail(err, LUCENT_E_IO, "", "cannot delete mesh %s: %s", id, strerror(errno));
-    } else {
-        /* without its metadata the entry is gone; a mesh file left behind is removed at the next open */
-        unlink(mesh_path);
-        s->used -= e->disk_bytes;
-        *e = s->entries[--s->count];
-        if (!sync_dir(s->dir))
-            st = lucent_fail(err, LUCENT_E_IO, "", "cannot sync the mesh store directory: %s", strerror(errno));
-    }
     pthread_mutex_unlock(&s->lock);
+    if (st == LUCENT_OK && !sync_dir(s->dir))
+        st = lucent_fail(err, LUCENT_E_IO, "", "cannot sync the mesh store directory: %s", strerror(errno));
     return st;
 }
 

@@ -173,8 +173,19 @@ char *metrics_text(struct metrics *m, const struct metrics_gauges *g, size_t *le
             "lucentd_renders_in_flight %d\n", g->in_flight);
     add(&t, "# HELP lucentd_image_cache_bytes Bytes of encoded images cached.\n# TYPE lucentd_image_cache_bytes gauge\n"
             "lucentd_image_cache_bytes %llu\n", (unsigned long long)g->cache_bytes);
+    add(&t, "# HELP lucentd_request_body_bytes Request bodies being received or held (declared lengths in full).\n"
+            "# TYPE lucentd_request_body_bytes gauge\nlucentd_request_body_bytes %llu\n", (unsigned long long)g->body_bytes);
+    add(&t, "# HELP lucentd_renders_abandoned_total Queued renders skipped because their client had closed its "
+            "connection.\n# TYPE lucentd_renders_abandoned_total counter\nlucentd_renders_abandoned_total %llu\n",
+        (unsigned long long)g->abandoned);
+    add(&t, "# HELP lucentd_slow_requests_closed_total Connections closed for taking over --request-timeout to "
+            "send a request.\n# TYPE lucentd_slow_requests_closed_total counter\nlucentd_slow_requests_closed_total %llu\n",
+        (unsigned long long)g->slow_closed);
     add(&t, "# HELP lucentd_mesh_store_bytes Bytes of uploaded meshes stored.\n# TYPE lucentd_mesh_store_bytes gauge\n"
             "lucentd_mesh_store_bytes %llu\n", (unsigned long long)g->store_bytes);
+    add(&t, "# HELP lucentd_import_sandbox_violations_total Mesh importers killed by their sandbox (a hostile "
+            "file made one attempt a forbidden system call).\n# TYPE lucentd_import_sandbox_violations_total counter\n"
+            "lucentd_import_sandbox_violations_total %llu\n", (unsigned long long)g->import_violations);
     pthread_mutex_lock(&m->lock);
     add(&t, "# HELP lucentd_image_cache_hits_total Renders answered from the image cache.\n"
             "# TYPE lucentd_image_cache_hits_total counter\nlucentd_image_cache_hits_total %llu\n"

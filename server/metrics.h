@@ -24,6 +24,10 @@ void metrics_device_lost(struct metrics *m);
 struct metrics_gauges {
     int queue_depth, in_flight, ready;
     uint64_t cache_bytes, store_bytes;
+    uint64_t body_bytes;
+    uint64_t slow_closed;
+    uint64_t abandoned; /* queued renders skipped: their client had gone */ /* connections closed past --request-timeout */ /* request bodies in flight, as charged against --max-body-total */
+    uint64_t import_violations; /* importers the sandbox stopped */
     const char *device, *version;
 };
 

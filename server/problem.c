@@ -34,6 +34,7 @@ static const struct problem_kind table[] = {
     {PROBLEM_BODY_TOO_LARGE, NULL, 413, "body-too-large", "Request body too large"},
     {PROBLEM_HOST, NULL, 421, "host-not-served", "Host not served"},
     {PROBLEM_ORIGIN, NULL, 403, "origin-refused", "Cross-origin request refused"},
+    {PROBLEM_BODIES_FULL, NULL, 503, "bodies-full", "Too many request bodies in flight"},
 };
 
 const struct problem_kind *problem_lookup(int code, const char *field)

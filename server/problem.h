@@ -19,6 +19,7 @@ enum {
     PROBLEM_BODY_TOO_LARGE,
     PROBLEM_HOST,               /* the Host is not one this daemon serves (DNS rebinding) */
     PROBLEM_ORIGIN,             /* a POST or DELETE sent by a web page of a foreign origin */
+    PROBLEM_BODIES_FULL,        /* the bodies in flight hold --max-body-total */
 };
 
 struct problem_kind {

@@ -1,11 +1,15 @@
 /* render_queue.c - one render worker that alone owns the lucent_renderer, fed by a mutex, a condition variable
  * and a FIFO (Redis bio.c style); each job is finished once, and its finisher resumes the connection. */
+#define _GNU_SOURCE /* POLLRDHUP */
+
 #include "render_queue.h"
+#include "resume_gate.h"
 
 #include "access_log.h"
 #include "image_cache.h"
 #include "metrics.h"
 
+#include <poll.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,6 +37,8 @@ struct render_queue {
     uint64_t max_pixels;        /* the renderer's largest image */
     struct metrics *metrics;
     struct image_cache *cache;
+    struct resume_gate *resumes;
+    uint64_t abandoned;         /* jobs skipped because their client had gone */
 };
 
 double monotonic_seconds(void)
@@ -45,8 +51,10 @@ double monotonic_seconds(void)
 struct render_job *render_job_new(void)
 {
     struct render_job *job = calloc(1, sizeof *job);
-    if (job)
+    if (job) {
         job->refs = 1;
+        job->client_fd = -1;
+    }
     return job;
 }
 
@@ -90,6 +98,15 @@ static void remove_queued_locked(struct render_queue *q, struct render_job *job)
     job->refs--; /* the queue's reference; the request still holds its own */
 }
 
+/* Whether the client closed its end while its request waited (nothing would read the image). Its
+ * connection is suspended, so libmicrohttpd does not watch the socket, and the descriptor stays open.
+ * A client that half-closes after its request counts as gone, as nginx treats it. */
+static int client_gone(const struct render_job *job)
+{
+    struct pollfd p = {job->client_fd, POLLRDHUP, 0};
+    return job->client_fd >= 0 && poll(&p, 1, 0) == 1 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR));
+}
+
 /* Renders and encodes one job outside the lock. The result goes to the cache even when the request
  * already gave up: a retry of the same scene then finds it. */
 static lucent_status run_job(struct render_queue *q, lucent_renderer *r, struct render_job *job, double started,
@@ -124,6 +141,7 @@ static lucent_status run_job(struct render_queue *q, lucent_renderer *r, struct 
         q->recovering = 1;  /* before the answer goes out: a client that reads it sees /readyz 503 */
     int mine = job->outcome == JOB_PENDING;
     if (mine) {
+        resume_gate_enter(q->resumes);
         job->stats = stats;
         job->err = err;
         job->bytes = bytes;
@@ -136,7 +154,7 @@ static lucent_status run_job(struct render_queue *q, lucent_renderer *r, struct 
     pthread_mutex_unlock(&q->lock);
     free(bytes);
     if (mine)
-        MHD_resume_connection(job->connection);
+        resume_gate_resume(q->resumes, job->connection);
     *failure = err;
     return st;
 }
@@ -224,7 +242,20 @@ static void *worker(void *arg)
         job->next = NULL;
         q->queued--;
         q->current = job; /* the queue's reference moves to the worker */
+        int gone = client_gone(job) && finish_locked(job, JOB_CANCELLED);
+        if (gone) {
+            q->abandoned++;
+            q->current = NULL;
+            resume_gate_enter(q->resumes);
+        }
         pthread_mutex_unlock(&q->lock);
+        if (gone) {
+            log_line(LOG_INFO, "render %.12s skipped: its client closed the connection while it waited", job->etag);
+            resume_gate_resume(q->resumes, job->connection);
+            render_job_release(q, job);
+            pthread_mutex_lock(&q->lock);
+            continue;
+        }
         lucent_error failure = {0};
         lucent_status st = run_job(q, r, job, monotonic_seconds(), &failure);
         render_job_release(q, job);
@@ -243,8 +274,8 @@ static void *worker(void *arg)
 }
 
 struct render_queue *render_queue_create(int capacity, const char *device_name, uint64_t mesh_cache_bytes,
-                                         struct metrics *metrics,
-                                         struct image_cache *cache, lucent_error *err)
+                                         struct metrics *metrics, struct image_cache *cache,
+                                         struct resume_gate *resumes, lucent_error *err)
 {
     struct render_queue *q = calloc(1, sizeof *q);
     if (!q) {
@@ -257,6 +288,7 @@ struct render_queue *render_queue_create(int capacity, const char *device_name, 
     q->mesh_cache_bytes = mesh_cache_bytes;
     q->metrics = metrics;
     q->cache = cache;
+    q->resumes = resumes;
     snprintf(q->device_request, sizeof q->device_request, "%s", device_name ? device_name : "");
     if (pthread_create(&q->thread, NULL, worker, q) != 0) {
         pthread_cond_destroy(&q->wake);
@@ -319,6 +351,7 @@ static void sweep(struct render_queue *q, double now, enum job_outcome outcome)
         while (job && n < SWEEP_MAX) {
             struct render_job *next = job->next;
             if ((outcome == JOB_CANCELLED || job->deadline <= now) && finish_locked(job, outcome)) {
+                resume_gate_enter(q->resumes);
                 resume[n++] = job->connection;
                 remove_queued_locked(q, job);
             }
@@ -330,11 +363,13 @@ static void sweep(struct render_queue *q, double now, enum job_outcome outcome)
          * in case the first request came just before the render began. */
         if (overdue && q->renderer)
             lucent_render_cancel(q->renderer);
-        if (overdue && n < SWEEP_MAX && finish_locked(cur, outcome))
+        if (overdue && n < SWEEP_MAX && finish_locked(cur, outcome)) {
+            resume_gate_enter(q->resumes);
             resume[n++] = cur->connection;
+        }
         pthread_mutex_unlock(&q->lock);
         for (int i = 0; i < n; i++)
-            MHD_resume_connection(resume[i]);
+            resume_gate_resume(q->resumes, resume[i]);
     } while (n == SWEEP_MAX);
 }
 
@@ -362,6 +397,14 @@ int render_queue_recovering(struct render_queue *q)
     int recovering = q->recovering;
     pthread_mutex_unlock(&q->lock);
     return recovering;
+}
+
+uint64_t render_queue_abandoned(struct render_queue *q)
+{
+    pthread_mutex_lock(&q->lock);
+    uint64_t n = q->abandoned;
+    pthread_mutex_unlock(&q->lock);
+    return n;
 }
 
 int render_queue_depth(struct render_queue *q, int *in_flight)

@@ -17,6 +17,7 @@ struct render_job {
     lucent_scene scene;
     char etag[65];
     struct MHD_Connection *connection;
+    int client_fd;              /* its socket: open while the connection is suspended; -1 unknown */
     double deadline;            /* monotonic seconds */
     double submitted;
     /* Written by whoever finishes the job, before outcome is set; read after the resume. */
@@ -34,11 +35,14 @@ struct render_job {
 
 struct render_queue;
 
+struct resume_gate;
+
 /* Starts the worker, which creates the renderer and warms it with one small frame.
- * device_name may be NULL or "" (automatic). */
+ * device_name may be NULL or "" (automatic). Connections are resumed through `resumes`, which must
+ * outlive the queue. */
 struct render_queue *render_queue_create(int capacity, const char *device_name, uint64_t mesh_cache_bytes,
-                                         struct metrics *metrics,
-                                         struct image_cache *cache, lucent_error *err);
+                                         struct metrics *metrics, struct image_cache *cache,
+                                         struct resume_gate *resumes, lucent_error *err);
 /* Blocks until the renderer is warm (0: device and the largest image in pixels filled in) or failed to
  * start (-1, err). */
 int render_queue_wait_ready(struct render_queue *q, char *device, size_t cap, uint64_t *max_pixels,
@@ -60,6 +64,8 @@ void render_queue_close(struct render_queue *q);
 int render_queue_recovering(struct render_queue *q);
 /* Jobs waiting or running; in_flight (may be NULL) gets the running count. */
 int render_queue_depth(struct render_queue *q, int *in_flight);
+/* Queued renders skipped because their client closed its connection while they waited. */
+uint64_t render_queue_abandoned(struct render_queue *q);
 /* Jobs not yet finished (resumed). */
 int render_queue_open_jobs(struct render_queue *q);
 /* Stops the worker after its current render, waiting at most wait_s, then frees the queue (the worker

@@ -5,6 +5,8 @@
 #include "accept_header.h"
 #include "http_server.h"
 #include "image_cache.h"
+#include "connection_guard.h"
+#include "import_jail.h"
 #include "mesh_store.h"
 #include "metrics.h"
 #include "problem.h"
@@ -391,6 +393,8 @@ static enum MHD_Result handle_render(struct request *req)
     job->scene = scene;
     memcpy(job->etag, etag, sizeof etag);
     job->connection = req->connection;
+    const union MHD_ConnectionInfo *fd = MHD_get_connection_info(req->connection, MHD_CONNECTION_INFO_CONNECTION_FD);
+    job->client_fd = fd ? fd->connect_fd : -1;
     job->deadline = monotonic_seconds() + srv->cfg.render_timeout_s;
     if (render_queue_submit(srv->queue, job) != 0) {
         render_job_release(srv->queue, job);
@@ -444,7 +448,10 @@ static enum MHD_Result handle_readyz(struct request *req)
                          json_pack("{s:b, s:s, s:i}", "ready", 0, "reason", reason, "queue_depth", depth),
                          MHD_HTTP_HEADER_RETRY_AFTER, secs);
     return send_json(req, MHD_HTTP_OK,
-                     json_pack("{s:b, s:s, s:i}", "ready", 1, "device", srv->device, "queue_depth", depth), NULL, NULL);
+                     json_pack("{s:b, s:s, s:i, s:{s:s, s:s, s:s}}", "ready", 1, "device", srv->device, "queue_depth",
+                               depth, "import_sandbox", "user", import_jail_user(srv->jail), "namespaces",
+                               import_jail_namespaces(srv->jail), "description", import_jail_describe(srv->jail)),
+                     NULL, NULL);
 }
 
 static enum MHD_Result handle_metrics(struct request *req)
@@ -455,6 +462,10 @@ static enum MHD_Result handle_metrics(struct request *req)
     g.ready = atomic_load(&srv->phase) == PHASE_SERVING && !render_queue_recovering(srv->queue);
     g.cache_bytes = image_cache_bytes(srv->cache);
     g.store_bytes = mesh_store_bytes(srv->store);
+    g.import_violations = mesh_import_violations();
+    g.body_bytes = srv->body_bytes;
+    g.slow_closed = connection_guard_closed(srv->guard);
+    g.abandoned = render_queue_abandoned(srv->queue);
     size_t len = 0;
     char *text = metrics_text(srv->metrics, &g, &len);
     if (!text)

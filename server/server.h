@@ -23,6 +23,10 @@ struct server {
     struct image_cache *cache;
     struct metrics *metrics;
     struct mesh_store *store;
+    struct import_jail *jail;
+    struct resume_gate *resumes;
+    struct connection_guard *guard;
+    uint64_t body_bytes;          /* charged by requests receiving or holding a body; MHD's thread only */
     struct upload_queue *uploads;
     char token[256];       /* empty: no token required */
     char device[256];      /* Vulkan device, known once serving */

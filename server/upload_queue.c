@@ -1,6 +1,7 @@
 /* upload_queue.c - mesh_store_put on a detached thread per upload (a few at a time), resuming the connection
  * when the import ends; shutdown cancels answers, never imports, so the store is never half-written. */
 #include "upload_queue.h"
+#include "resume_gate.h"
 
 #include "render_queue.h"
 
@@ -13,11 +14,12 @@ struct upload_queue {
     pthread_mutex_t lock;
     pthread_cond_t idle;
     struct mesh_store *store;
+    struct resume_gate *resumes;
     int max_running, running, closed;
     struct upload_job *jobs;
 };
 
-struct upload_queue *upload_queue_create(struct mesh_store *store, int max_running)
+struct upload_queue *upload_queue_create(struct mesh_store *store, int max_running, struct resume_gate *resumes)
 {
     struct upload_queue *q = calloc(1, sizeof *q);
     if (!q)
@@ -25,6 +27,7 @@ struct upload_queue *upload_queue_create(struct mesh_store *store, int max_runni
     pthread_mutex_init(&q->lock, NULL);
     pthread_cond_init(&q->idle, NULL);
     q->store = store;
+    q->resumes = resumes;
     q->max_running = max_running;
     return q;
 }
@@ -81,6 +84,7 @@ static void *import_thread(void *arg)
         job->info = info;
         job->created = created;
         job->done = 1;
+        resume_gate_enter(q->resumes);
     }
     for (struct upload_job **p = &q->jobs; *p; p = &(*p)->next)
         if (*p == job) {
@@ -89,7 +93,7 @@ static void *import_thread(void *arg)
         }
     pthread_mutex_unlock(&q->lock);
     if (mine)
-        MHD_resume_connection(job->connection);
+        resume_gate_resume(q->resumes, job->connection);
     upload_job_release(q, job);
     /* Last: once running reaches 0, the queue may be destroyed. */
     pthread_mutex_lock(&q->lock);
@@ -145,10 +149,11 @@ void upload_queue_cancel_all(struct upload_queue *q)
         if (job->done == 0) {
             job->done = -1;
             resume[n++] = job->connection;
+            resume_gate_enter(q->resumes);
         }
     pthread_mutex_unlock(&q->lock);
     for (int i = 0; i < n; i++)
-        MHD_resume_connection(resume[i]);
+        resume_gate_resume(q->resumes, resume[i]);
     free(resume);
 }
 

@@ -28,7 +28,10 @@ struct upload_job {
 
 struct upload_queue;
 
-struct upload_queue *upload_queue_create(struct mesh_store *store, int max_running);
+struct resume_gate;
+
+/* Connections are resumed through `resumes`, which must outlive the queue. */
+struct upload_queue *upload_queue_create(struct mesh_store *store, int max_running, struct resume_gate *resumes);
 /* A job holding one reference (the caller's); takes ownership of bytes (freed with the job). NULL
  * (bytes freed) when out of memory. */
 struct upload_job *upload_job_new(unsigned char *bytes, size_t len, const char *content_type);

@@ -1,15 +1,18 @@
 /* test_import_sandbox.c - mesh_import_isolated and mesh_format_sniff: real imports, the hostile inputs
- * of assimp-hazards.md, fuzzed glTF, and importers that crash, hang, spin or talk nonsense.
- * Usage: test_import_sandbox LUCENT_IMPORT FAKE_IMPORT_TOOL BUNNY_OBJ */
+ * of assimp-hazards.md, fuzzed glTF, importers that crash, hang, spin or talk nonsense, and one that
+ * tries to escape its sandbox. Usage: test_import_sandbox LUCENT_IMPORT HOSTILE_IMPORTER BUNNY_OBJ */
 #ifndef _POSIX_C_SOURCE
-#define _POSIX_C_SOURCE 200809L /* setenv */
+#define _POSIX_C_SOURCE 200809L
 #endif
 
 #include "lucent.h"
 #include "mesh.h"
+#include "import_jail.h"
 #include "mesh_import_sandbox.h"
 #include "test_support.h"
 
+#include <fcntl.h>
+#include <pwd.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,7 +21,7 @@
 #include <time.h>
 #include <unistd.h>
 
-static const char *import_tool, *fake_tool;
+static struct import_jail *real_jail, *hostile_jail;
 static char out_path[64];
 
 static struct import_limits LIMITS = {512u << 20, 10, 20, LUCENT_MAX_TRIANGLES};
@@ -51,14 +54,41 @@ typedef struct outcome {
     double seconds, cpu_seconds; /* wall clock, and the importer's CPU time */
 } outcome;
 
-static outcome run(const char *tool, const struct import_limits *lim, const void *bytes, size_t len, const char *ext)
+/* The output goes to out_path, as the store's temporaries: an empty file open for reading and writing. */
+static outcome run(const struct import_jail *jail, const struct import_limits *lim, const void *bytes, size_t len,
+                   const char *ext)
 {
     outcome o;
     memset(&o, 0, sizeof o);
+    int fd = open(out_path, O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    if (fd < 0) {
+        o.status = lucent_fail(&o.err, LUCENT_E_IO, "", "cannot create %s", out_path);
+        return o;
+    }
     double t0 = seconds(), cpu0 = children_cpu_seconds();
-    o.status = mesh_import_isolated(tool, lim, bytes, len, ext, out_path, &o.info, &o.err);
+    o.status = mesh_import_isolated(jail, lim, bytes, len, ext, fd, &o.info, &o.err);
+    close(fd);
     o.seconds = seconds() - t0;
     o.cpu_seconds = children_cpu_seconds() - cpu0;
+    return o;
+}
+
+/* The hostile importer reads what to do from the upload's first line. */
+static outcome run_as(const struct import_jail *jail, const char *mode, const struct import_limits *lim,
+                      const void *rest, size_t len)
+{
+    size_t n = strlen(mode);
+    unsigned char *bytes = malloc(n + 1 + len);
+    if (!bytes) {
+        outcome o = {.status = LUCENT_E_NOMEM};
+        return o;
+    }
+    memcpy(bytes, mode, n);
+    bytes[n] = '\n';
+    if (len)
+        memcpy(bytes + n + 1, rest, len);
+    outcome o = run(jail, lim, bytes, n + 1 + len, "obj");
+    free(bytes);
     return o;
 }
 
@@ -88,7 +118,7 @@ static unsigned char *read_file(const char *path, size_t *len)
 
 static void check_valid(const char *bunny_path)
 {
-    outcome o = run(import_tool, &LIMITS, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj");
+    outcome o = run(real_jail, &LIMITS, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj");
     const struct mesh_info *i = &o.info;
     test_check(o.status == LUCENT_OK && i->triangles == 1 && i->vertices == 3 && i->bytes == strlen(TRIANGLE_OBJ) &&
                    i->bounds_min[0] == 10 && i->bounds_min[1] == 0 && i->bounds_max[0] == 11 &&
@@ -111,7 +141,7 @@ static void check_valid(const char *bunny_path)
     uint32_t faces = 0;
     for (size_t k = 0; k + 1 < len; k++)
         faces += (k == 0 || bunny[k - 1] == '\n') && bunny[k] == 'f' && bunny[k + 1] == ' ';
-    o = run(import_tool, &LIMITS, bunny, len, "obj");
+    o = run(real_jail, &LIMITS, bunny, len, "obj");
     test_check(o.status == LUCENT_OK && o.info.triangles == faces && o.info.vertices > 0 &&
                    o.info.bounds_max[1] > o.info.bounds_min[1],
                "bunny: %s, %u triangles (the file has %u faces), %u vertices, height %.4f, in %.3f s %s",
@@ -120,7 +150,7 @@ static void check_valid(const char *bunny_path)
 
     struct import_limits few = LIMITS;
     few.max_triangles = 100;
-    expect_failure("bunny with max_triangles 100", run(import_tool, &few, bunny, len, "obj"), LUCENT_E_LIMIT,
+    expect_failure("bunny with max_triangles 100", run(real_jail, &few, bunny, len, "obj"), LUCENT_E_LIMIT,
                    "at most 100");
     if (unlimited_address_space) {
         printf("     (address-space limits not checked: the importer is built with AddressSanitizer)\n");
@@ -130,11 +160,11 @@ static void check_valid(const char *bunny_path)
     /* the loader itself cannot map assimp into 8 MiB */
     struct import_limits tiny = LIMITS;
     tiny.address_space_bytes = 8u << 20;
-    expect_failure("bunny in 8 MiB of address space", run(import_tool, &tiny, bunny, len, "obj"),
+    expect_failure("bunny in 8 MiB of address space", run(real_jail, &tiny, bunny, len, "obj"),
                    LUCENT_E_INTERNAL, "could not start");
     /* enough to start, too little to parse: assimp's std::bad_alloc surfaces as a malformed file */
     tiny.address_space_bytes = 24u << 20;
-    o = run(import_tool, &tiny, bunny, len, "obj");
+    o = run(real_jail, &tiny, bunny, len, "obj");
     test_check(o.status == LUCENT_E_MESH || o.status == LUCENT_E_LIMIT,
                "bunny in 24 MiB of address space: %s: %s (%.2f s)", lucent_status_name(o.status), o.err.message,
                o.seconds);
@@ -146,36 +176,36 @@ static void check_valid(const char *bunny_path)
 static void check_hostile(void)
 {
     static const char garbage[] = "\x01\x02\x03 this is not a mesh \xff\xfe";
-    expect_failure("garbage as OBJ", run(import_tool, &LIMITS, garbage, sizeof garbage - 1, "obj"), LUCENT_E_MESH,
+    expect_failure("garbage as OBJ", run(real_jail, &LIMITS, garbage, sizeof garbage - 1, "obj"), LUCENT_E_MESH,
                    "could not read");
-    expect_failure("garbage as GLB", run(import_tool, &LIMITS, garbage, sizeof garbage - 1, "glb"), LUCENT_E_MESH,
+    expect_failure("garbage as GLB", run(real_jail, &LIMITS, garbage, sizeof garbage - 1, "glb"), LUCENT_E_MESH,
                    "not a valid binary glTF");
-    expect_failure("garbage as STL", run(import_tool, &LIMITS, garbage, sizeof garbage - 1, "stl"), LUCENT_E_MESH,
+    expect_failure("garbage as STL", run(real_jail, &LIMITS, garbage, sizeof garbage - 1, "stl"), LUCENT_E_MESH,
                    "not a valid STL");
-    expect_failure("empty upload", run(import_tool, &LIMITS, "", 0, "obj"), LUCENT_E_MESH, "empty");
+    expect_failure("empty upload", run(real_jail, &LIMITS, "", 0, "obj"), LUCENT_E_MESH, "empty");
     static const char vertices_only[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
-    outcome o = run(import_tool, &LIMITS, vertices_only, strlen(vertices_only), "obj");
+    outcome o = run(real_jail, &LIMITS, vertices_only, strlen(vertices_only), "obj");
     test_check(o.status == LUCENT_E_MESH && strcmp(o.err.field, "mesh") == 0,
                "OBJ without faces: %s, field \"%s\": %s", lucent_status_name(o.status), o.err.field, o.err.message);
 
     static const char ply_open[] = "ply\nformat ascii 1.0\n";
     expect_failure("PLY header without end_header (assimp loops forever)",
-                   run(import_tool, &LIMITS, ply_open, strlen(ply_open), "ply"), LUCENT_E_MESH, "end_header");
+                   run(real_jail, &LIMITS, ply_open, strlen(ply_open), "ply"), LUCENT_E_MESH, "end_header");
     /* before, at lucentd's default 2 GiB: 1 GB and 8 CPU seconds, then a crash */
     static const char ply_bomb[] = "ply\nformat ascii 1.0\nelement vertex 80000000\nproperty float x\n"
                                    "property float y\nproperty float z\nelement face 1\n"
                                    "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
     expect_failure("PLY declaring 80 million vertices in 187 bytes",
-                   run(import_tool, &LIMITS, ply_bomb, strlen(ply_bomb), "ply"), LUCENT_E_MESH,
+                   run(real_jail, &LIMITS, ply_bomb, strlen(ply_bomb), "ply"), LUCENT_E_MESH,
                    "declares more elements");
     static const char ply_cut[] = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                                   "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
                                   "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1";
-    o = run(import_tool, &LIMITS, ply_cut, strlen(ply_cut), "ply");
+    o = run(real_jail, &LIMITS, ply_cut, strlen(ply_cut), "ply");
     test_check(o.status == LUCENT_OK || o.status == LUCENT_E_MESH,
                "truncated ASCII PLY (assimp asserts): %s: %s", lucent_status_name(o.status), o.err.message);
     static const char mtllib[] = "mtllib /etc/passwd\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
-    o = run(import_tool, &LIMITS, mtllib, strlen(mtllib), "obj");
+    o = run(real_jail, &LIMITS, mtllib, strlen(mtllib), "obj");
     test_check((o.status == LUCENT_OK || o.status == LUCENT_E_MESH) && !strstr(o.err.message, "root:"),
                "OBJ with mtllib /etc/passwd: %s %s, nothing of the file quoted", lucent_status_name(o.status),
                o.err.message);
@@ -184,9 +214,9 @@ static void check_hostile(void)
                               "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":1,\"type\":\"VEC3\"}],"
                               "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
                               "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]}";
-    expect_failure("glTF buffer uri /etc/passwd", run(import_tool, &LIMITS, uri, strlen(uri), "gltf"), LUCENT_E_MESH,
+    expect_failure("glTF buffer uri /etc/passwd", run(real_jail, &LIMITS, uri, strlen(uri), "gltf"), LUCENT_E_MESH,
                    "other files");
-    expect_failure("unknown format", run(import_tool, &LIMITS, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "fbx"),
+    expect_failure("unknown format", run(real_jail, &LIMITS, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "fbx"),
                    LUCENT_E_INVALID, "unsupported");
 }
 
@@ -247,7 +277,7 @@ static void check_fuzzed_gltf(void)
 {
     enum { ROUNDS = 200 };
     size_t len = strlen(TRIANGLE_GLTF);
-    outcome o = run(import_tool, &LIMITS, TRIANGLE_GLTF, len, "gltf");
+    outcome o = run(real_jail, &LIMITS, TRIANGLE_GLTF, len, "gltf");
     if (!test_check(o.status == LUCENT_OK && o.info.triangles == 1, "the unfuzzed glTF triangle imports: %s %s",
                     lucent_status_name(o.status), o.err.message))
         return;
@@ -258,7 +288,7 @@ static void check_fuzzed_gltf(void)
         size_t n = mutate_gltf(copy, sizeof copy);
         if (round % 4 == 3) /* every fourth one truncated as well */
             n = rng() % n;
-        o = run(import_tool, &LIMITS, copy, n, "gltf");
+        o = run(real_jail, &LIMITS, copy, n, "gltf");
         total += o.seconds;
         counts[o.status]++;
         crashes += strstr(o.err.message, "crashed") != NULL;
@@ -283,36 +313,78 @@ static void check_misbehaving(const char *bunny_path)
     lim.wall_seconds = 1;
     lim.cpu_seconds = 1;
 
-    setenv("LUCENT_FAKE_IMPORT", "crash", 1);
-    expect_failure("importer raising SIGSEGV without reading its input", run(fake_tool, &LIMITS, big, len, "obj"),
-                   LUCENT_E_MESH, "crashed (signal 11)");
-    setenv("LUCENT_FAKE_IMPORT", "hang", 1);
-    outcome o = run(fake_tool, &lim, big, len, "obj");
+    expect_failure("importer raising SIGSEGV without reading past its first line",
+                   run_as(hostile_jail, "crash", &LIMITS, big, len), LUCENT_E_MESH, "crashed (signal 11)");
+    outcome o = run_as(hostile_jail, "hang", &lim, big, len);
     expect_failure("importer sleeping, wall limit 1 s", o, LUCENT_E_MESH, "longer than 1 s");
     /* The message says the wall limit stopped it. It would sleep 60 s, so under 10 s means it was killed,
      * with room for a busy machine; and not before the limit. */
     test_check(o.seconds >= 1 && o.seconds < 10,
                "stopped after %.2f s wall, %.2f s CPU (wall limit 1 s; it sleeps 60 s)", o.seconds, o.cpu_seconds);
-    setenv("LUCENT_FAKE_IMPORT", "spin", 1);
     lim.wall_seconds = 20;
-    o = run(fake_tool, &lim, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj");
+    o = run_as(hostile_jail, "spin", &lim, NULL, 0);
     expect_failure("importer spinning, CPU limit 1 s", o, LUCENT_E_MESH, "CPU time");
     /* The message says SIGXCPU (the soft CPU limit) ended it, before the 20 s wall limit however slowly it got
      * the CPU. Its own CPU clock, which load does not stretch, shows the signal came at the 1 s soft limit
      * (measured 0.95-1.00 s) and not at 2 s, the hard limit. */
     test_check(o.cpu_seconds >= 0.5 && o.cpu_seconds < 1.5, "stopped after %.2f s CPU (limit 1 s), %.2f s wall",
                o.cpu_seconds, o.seconds);
-    setenv("LUCENT_FAKE_IMPORT", "garbage", 1);
-    expect_failure("importer answering nonsense", run(fake_tool, &LIMITS, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj"),
+    expect_failure("importer answering nonsense", run_as(hostile_jail, "garbage", &LIMITS, NULL, 0),
                    LUCENT_E_INTERNAL, "not understood");
-    expect_failure("importer that does not exist",
-                   run("/nonexistent/lucent-import", &LIMITS, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj"),
-                   LUCENT_E_INTERNAL, "could not start");
+    struct import_jail *missing = NULL;
+    outcome none = {.status = import_jail_open("/nonexistent/lucent-import", NULL, &missing, &none.err)};
+    expect_failure("importer that does not exist", none, LUCENT_E_INTERNAL, "cannot open");
     struct import_limits zero = LIMITS;
     zero.wall_seconds = 0;
-    expect_failure("a zero limit", run(import_tool, &zero, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj"),
+    expect_failure("a zero limit", run(real_jail, &zero, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj"),
                    LUCENT_E_INTERNAL, "positive");
     free(big);
+}
+
+/* ---- an importer that tries to escape ---- */
+
+/* What the jail alone gives the importer, seen from inside by the unsealed escape tool. */
+static void check_jail(void)
+{
+    const char *user = import_jail_user(hostile_jail);
+    unsigned uid = (unsigned)getuid();
+    if (user[0]) {
+        struct passwd *pw = getpwnam(user);
+        uid = pw ? (unsigned)pw->pw_uid : 0;
+    }
+    /* with a network namespace there is no loopback to reach; without one, nothing listens on port 9 */
+    const char *net = strstr(import_jail_namespaces(hostile_jail), "net") ? "ENETUNREACH" : "ECONNREFUSED";
+    char want[256];
+    snprintf(want, sizeof want, "env=0 fds=0,1,2,3,4 uid=%u pgrp=own nnp=1 fork=EAGAIN connect=%s cwd=/", uid, net);
+    outcome o = run_as(hostile_jail, "jail", &LIMITS, NULL, 0);
+    test_check(o.status == LUCENT_E_INVALID && strcmp(o.err.message, want) == 0,
+               "inside the jail (%s): %s (want %s)", import_jail_describe(hostile_jail), o.err.message, want);
+}
+
+/* Each thing an exploited importer would do next, after sealing itself: each must kill it, and count. */
+static void check_escapes(void)
+{
+    static const char *const attempts[] = {"open", "connect", "fork", "signal", "exec", "mmap-exec"};
+    const size_t n = sizeof attempts / sizeof attempts[0];
+    uint64_t before = mesh_import_violations();
+    for (size_t i = 0; i < n; i++)
+        expect_failure(attempts[i], run_as(hostile_jail, attempts[i], &LIMITS, NULL, 0), LUCENT_E_MESH,
+                       "stopped by its sandbox");
+    uint64_t counted = mesh_import_violations() - before;
+    test_check(counted == n, "sandbox violations counted: %llu of %zu", (unsigned long long)counted, n);
+
+    /* an importer that writes one mesh and describes another, or writes garbage */
+    outcome o = run(real_jail, &LIMITS, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj");
+    size_t len = 0;
+    unsigned char *lmesh = o.status == LUCENT_OK ? read_file(out_path, &len) : NULL;
+    if (!test_check(lmesh != NULL, "a triangle's compact form to lie about (%zu bytes)", len))
+        return;
+    expect_failure("importer whose answer does not match its mesh", run_as(hostile_jail, "lie", &LIMITS, lmesh, len),
+                   LUCENT_E_MESH, "does not describe the mesh it wrote");
+    memset(lmesh + 56, 0x7f, len - 64); /* NaNs where the numbers were */
+    expect_failure("importer writing a damaged mesh", run_as(hostile_jail, "lie", &LIMITS, lmesh, len), LUCENT_E_MESH,
+                   "failed the daemon's check");
+    free(lmesh);
 }
 
 /* ---- format sniffing ---- */
@@ -369,11 +441,18 @@ static void check_sniff(void)
 int main(int argc, char **argv)
 {
     if (argc != 4) {
-        fprintf(stderr, "usage: %s LUCENT_IMPORT FAKE_IMPORT_TOOL BUNNY_OBJ\n", argv[0]);
+        fprintf(stderr, "usage: %s LUCENT_IMPORT HOSTILE_IMPORTER BUNNY_OBJ\n", argv[0]);
         return 2;
     }
-    import_tool = argv[1];
-    fake_tool = argv[2];
+    /* as lucentd: a dedicated user when root */
+    const char *user = geteuid() == 0 ? "nobody" : NULL;
+    lucent_error err = {0};
+    if (import_jail_open(argv[1], user, &real_jail, &err) != LUCENT_OK ||
+        import_jail_open(argv[2], user, &hostile_jail, &err) != LUCENT_OK) {
+        fprintf(stderr, "cannot set up the import jails: %s\n", err.message);
+        return 1;
+    }
+    printf("     jail: %s\n", import_jail_describe(real_jail));
     unlimited_address_space = getenv("LUCENT_TEST_UNLIMITED_ADDRESS_SPACE") != NULL;
     if (unlimited_address_space)
         LIMITS.address_space_bytes = SIZE_MAX;
@@ -383,6 +462,10 @@ int main(int argc, char **argv)
     check_hostile();
     check_fuzzed_gltf();
     check_misbehaving(argv[3]);
+    check_jail();
+    check_escapes();
     unlink(out_path);
+    import_jail_close(real_jail);
+    import_jail_close(hostile_jail);
     return test_finish();
 }

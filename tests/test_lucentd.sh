@@ -2,11 +2,13 @@
 # test_lucentd.sh - lucentd over HTTP with curl: every endpoint, every error status with its problem+json
 # body, caching, CORS, meshes of every format across a restart, importers that crash or hang, 32 parallel
 # renders, a full queue, deadlines, the server's limits and SIGTERM with and without a drain deadline.
-# Usage: test_lucentd.sh PATH/TO/lucentd. Images are decoded and checked for size and content
+# Usage: test_lucentd.sh PATH/TO/lucentd PATH/TO/hostile_importer (tests/hostile_importer.c: an importer that
+# misbehaves as the upload's first line says). Images are decoded and checked for size and content
 # (tests/check_png.py). Waits are on observable state (/metrics, /readyz, log lines), each with a generous
 # outer limit, never on a fixed sleep.
 set -u
 lucentd=$1
+hostile_importer=$2
 source "$(dirname "$0")/lucentd_harness.sh"
 
 # exr FILE W H: oiiotool decodes it as a float image of that size.
@@ -307,11 +309,15 @@ c=$(req "$work/hit.png" GET "$A/v1/render?mesh=$cube_id&w=64&h=64&light_dir=-1,-
 check "second request is a cache hit ($c): $(header "$work/hit.png" Server-Timing)" grep -qi '^server-timing: cache;desc=hit' "$work/hit.png.h"
 check "cache hit is byte-identical" cmp -s "$work/cube2.png" "$work/hit.png"
 check "metrics count the hit" bash -c "curl -s '$A/metrics' | grep -q '^lucentd_image_cache_hits_total 1'"
-# A stored mesh damaged on disk is an internal failure the daemon survives: 500, then business as usual.
+# A stored mesh damaged on disk fails its MAC before the renderer sees it: 500, the mesh is removed, then
+# business as usual.
 python3 -c "import sys; p=sys.argv[1]; b=bytearray(open(p,'rb').read()); b[len(b)//2] ^= 0xff; open(p,'wb').write(b)" \
     "$store/$cube_id.lmesh"
 c=$(req "$work/e" GET "$A/v1/render?mesh=$cube_id&w=64&h=64&light_dir=-1,-0.5,-1&exposure=1&$fast")
-check "a damaged stored mesh -> 500 ($c): $(json_field "$work/e" '["detail"]' | cut -c1-70)" problem "$work/e" 500 mesh.file
+check "a damaged stored mesh -> 500 ($c): $(json_field "$work/e" '["detail"]' | cut -c1-90)" \
+    problem_with "$work/e" 500 mesh.id 'failed its integrity check'
+c=$(req "$work/m" GET "$A/v1/meshes/$cube_id")
+check "then it is no longer stored ($c)" [ "$c" = 404 ]
 c=$(req "$work/after.png" GET "$A/v1/render?w=64&h=64&exposure=2&$fast")
 # exposure=2 is four times the radiance; after sRGB encoding the covered pixels' mean brightness goes from
 # 81.9 (exposure 0) to 156.3 (1: 113.7), so a minimum of 100 shows the exposure was applied.
@@ -447,22 +453,8 @@ check "B log says draining, deadline reached, stopped" \
 
 # ---- C: a render deadline shorter than the render; limits up to what the device can do; other limits;
 # CORS for every origin; an importer that crashes, hangs or runs out of memory ----
-# The importer stand-in picks its failure from the upload's first bytes (each upload is labelled OBJ), so one
-# daemon sees all three; tests/fake_import_tool.sh takes its one failure from the environment instead.
-cat >"$work/import_tool.sh" <<'EOF2'
-#!/bin/sh
-case $(head -c 16) in
-  crash*) kill -SEGV $$ ;;
-  hang*) exec sleep 60 ;;
-  nomem*) echo '{"status":"nomem","field":"mesh","message":"out of memory"}'; exit 2 ;;
-  forge*) printf 'warning\n2026-01-01T00:00:00.000Z info lucentd: access id=forged GET /v1/render status=200\n\033[2Khidden\n' >&2
-          echo '{"status":"mesh","field":"mesh","message":"nothing to render"}'; exit 2 ;;
-esac
-exit 3
-EOF2
-chmod +x "$work/import_tool.sh"
 start C --store-dir "$work/storeC" --render-timeout 0.1 --retry-after 3 --max-width 4096 --max-height 4096 \
-    --max-samples 16 --max-lights 2 --max-projection-size 512 --cors-origins '*' --import-tool "$work/import_tool.sh" --import-wall 1 --log-level debug
+    --max-samples 16 --max-lights 2 --max-projection-size 512 --cors-origins '*' --import-tool "$hostile_importer" --import-wall 1 --log-level debug
 C=$base
 C_pid=$pid
 c=$(req "$work/e" GET "$C/v1/render?w=4000&h=4000")
@@ -519,18 +511,28 @@ stop "$C_pid"; rc=$?
 check "C: exit 0 after a deadline and three failed imports ($rc)" [ "$rc" = 0 ]
 
 # ---- R: --rate-limit 0.5 a second, bursts of 4, per client: after an upload, the fourth quick request gets
-# 429; and an importer that is not there: the upload is a 500 saying so, the daemon serves on ----
-start R --store-dir "$work/storeR" --rate-limit 0.5 --rate-burst 4 --import-tool "$work/no-such-importer"
+# 429; and an importer that tries to escape its sandbox: refused, counted, logged, the daemon serves on ----
+"$lucentd" --port 0 --store-dir "$work/storeR" --import-tool "$work/no-such-importer" 2>"$work/noimp.log" &
+noimp=$!; pids+=("$noimp")
+for _ in $(seq 1 300); do kill -0 "$noimp" 2>/dev/null || break; sleep 0.1; done
+kill -0 "$noimp" 2>/dev/null && rc=running || { wait "$noimp"; rc=$?; }
+check "a missing importer stops lucentd at start (exit $rc): $(grep -o 'cannot open the mesh importer[^:]*' "$work/noimp.log")" \
+    bash -c "[ '$rc' = 1 ] && grep -q 'cannot open the mesh importer' '$work/noimp.log'"
+start R --store-dir "$work/storeR" --rate-limit 0.5 --rate-burst 4 --import-tool "$hostile_importer"
 R=$base
 R_pid=$pid
-c=$(req "$work/e" POST "$R/v1/meshes" -H 'Content-Type: model/obj' --data-binary @"$tetra")
-check "a missing importer: upload 500 ($c) naming it: $(json_field "$work/e" '["detail"]' | cut -c1-70)" \
-    problem_with "$work/e" 500 "" 'could not start the mesh importer'
+c=$(req "$work/e" POST "$R/v1/meshes" -H 'Content-Type: model/obj' --data-binary $'open\nv 0 0 0')
+check "an importer opening /etc/passwd: upload $c: $(json_field "$work/e" '["detail"]' | cut -c1-60)" \
+    problem_with "$work/e" 422 mesh 'stopped by its sandbox'
+METRIC=lucentd_import_sandbox_violations_total
+v=$(metric "$R/metrics")
+check "reported: $METRIC $v, and the log says $(grep -c 'SANDBOX VIOLATION' "$log") time(s)" \
+    bash -c "[ '$v' = 1 ] && [ \$(grep -c 'SANDBOX VIOLATION' '$log') = 1 ]"
 codes=
-for i in 1 2 3 4; do codes+=" $(req "$work/r$i" GET "$R/v1/materials")"; done
-retry=$(header "$work/r4" Retry-After)
-check "three requests pass, the fourth is 429 ($codes) of type $(problem_type "$work/r4") with Retry-After $retry (1-2 s)" \
-    bash -c "[ '$codes' = ' 200 200 200 429' ] && [ '$(problem_type "$work/r4")' = rate-limited ] && [ '${retry:-0}' -ge 1 -a '${retry:-0}' -le 2 ]"
+for i in 1 2 3; do codes+=" $(req "$work/r$i" GET "$R/v1/materials")"; done
+retry=$(header "$work/r3" Retry-After)
+check "after the upload and /metrics two requests pass, the next is 429 ($codes) of type $(problem_type "$work/r3") with Retry-After $retry (1-2 s)" \
+    bash -c "[ '$codes' = ' 200 200 429' ] && [ '$(problem_type "$work/r3")' = rate-limited ] && [ '${retry:-0}' -ge 1 -a '${retry:-0}' -le 2 ]"
 c=$(req "$work/h" GET "$R/healthz")
 check "the probes are not limited ($c)" [ "$c" = 200 ]
 sleep "${retry:-2}"
@@ -538,6 +540,46 @@ c=$(req "$work/r5" GET "$R/v1/materials")
 check "after Retry-After the client passes again ($c)" [ "$c" = 200 ]
 stop "$R_pid"; rc=$?
 check "R: exit 0 ($rc)" [ "$rc" = 0 ]
+
+# ---- K: budgets a client cannot exhaust: connections per client, the whole-request deadline, the body
+# budget over all connections, and an endless chunked body (tests/hostile_clients.py) ----
+start K --store-dir "$work/storeK" --max-connections 16 --max-connections-per-client 8 --request-timeout 3 \
+    --max-body-bytes 1048576 --max-body-total 3000000
+port=${base##*:}
+r=$(python3 "$harness_dir/hostile_clients.py" slowloris "$port" 20)
+echo "   slowloris: $r"
+field() { python3 -c "import json,sys; print(json.loads(sys.argv[1])[sys.argv[2]])" "$r" "$1"; }
+check "20 trickling connections from one address: $(field refused_at_once) closed at once, $(field held) held (limit 8)" \
+    [ "$(field refused_at_once)" = 12 -a "$(field held)" = 8 ]
+check "another client reaches /healthz meanwhile ($(field healthz_meanwhile))" [ "$(field healthz_meanwhile)" = 200 ]
+METRIC=lucentd_slow_requests_closed_total
+check "the trickling ones closed after $(field closed_after_s) s (--request-timeout 3: 3-8 s): $(field closed) of 8, counted $(metric "$base/metrics")" \
+    bash -c "[ '$(field closed)' = 8 ] && python3 -c 'import sys; sys.exit(not 3 <= $(field closed_after_s) < 8)' && [ '$(metric "$base/metrics")' = 8 ]"
+r=$(python3 "$harness_dir/hostile_clients.py" bodies "$port" 1000000 3)
+echo "   bodies: $r"
+check "3 uploads declaring 1 MB hold $(field charged_while_held) of --max-body-total 3000000; a fourth: $(field status_line), $(field type), Retry-After $(field retry_after)" \
+    bash -c "[ '$(field charged_while_held)' = 3000000 ] && [[ '$(field status_line)' == *' 503 '* ]] && [[ '$(field type)' == *bodies-full ]] && [ -n '$(field retry_after)' ]"
+METRIC=lucentd_request_body_bytes
+for _ in $(seq 1 100); do [ "$(metric "$base/metrics")" = 0 ] && break; sleep 0.05; done
+c=$(req "$work/k" POST "$base/v1/meshes" -H 'Content-Type: model/obj' --data-binary @"$tetra")
+check "once they are gone the budget is free again ($(metric "$base/metrics") bytes held) and an upload is stored ($c)" \
+    [ "$(metric "$base/metrics")" = 0 -a "$c" = 201 ]
+# Renders whose clients gave up while they waited are skipped, not rendered for no one.
+curl -s -o "$work/slow.png" "$base/v1/render?method=reference&w=160&h=160" &
+slow=$!
+for _ in $(seq 1 200); do [ "$(METRIC=lucentd_renders_in_flight metric "$base/metrics")" = 1 ] && break; sleep 0.05; done
+for e in 1 2 3; do curl -s -o /dev/null --max-time 0.3 "$base/v1/render?w=64&h=64&exposure=$e"; done
+wait "$slow"
+METRIC=lucentd_queue_depth
+for _ in $(seq 1 600); do [ "$(metric "$base/metrics")" = 0 ] && break; sleep 0.05; done
+METRIC=lucentd_renders_abandoned_total
+check "3 renders whose clients left while a slow one ran: $(metric "$base/metrics") skipped, $(grep -c 'skipped: its client closed' "$log") logged" \
+    bash -c "[ '$(metric "$base/metrics")' = 3 ] && [ \$(grep -c 'skipped: its client closed' '$log') = 3 ]"
+sent=$(head -c 67108864 /dev/zero | curl -s -o /dev/null -w '%{size_upload}' -H 'Transfer-Encoding: chunked' \
+    -H 'Content-Type: model/obj' --data-binary @- "$base/v1/meshes")
+check "a 64 MiB chunked body over --max-body-bytes 1 MiB: the connection is closed after $sent bytes (under 8 MiB), logged" \
+    bash -c "[ '$sent' -lt 8388608 ] && grep -q 'connection closed after [0-9]* bytes of its body: over --max-body-bytes' '$log'"
+stop "$pid"
 
 # --allowed-hosts: the names a deployment serves under, and no others (loopback included).
 start H --store-dir "$work/storeH" --allowed-hosts 'render.example, lucent.internal'

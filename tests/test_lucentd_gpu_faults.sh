@@ -3,7 +3,8 @@
 # renderer/gpu_faults.h): a lost device (503 with Retry-After, /readyz 503 while a new renderer is made,
 # renders refused meanwhile, then served again), a failed submit (500, the next frame fine), a fence
 # that times out (500, the next frame waits for it and is correct), and a driver stuck in a call (SIGTERM
-# still ends the daemon in bounded time). Usage: test_lucentd_gpu_faults.sh lucentd
+# still ends the daemon in bounded time); and a connection resumed late during shutdown. Usage:
+# test_lucentd_gpu_faults.sh lucentd
 set -u
 lucentd=$1
 source "$(dirname "$0")/lucentd_harness.sh"
@@ -58,6 +59,22 @@ stop "$pid"; rc=$?
 ms=$(ms_since "$t0")
 check "SIGTERM with the worker stuck: exit $rc after $ms ms (bound 15000), the log says why" \
     bash -c "[ $rc = 1 ] && [ $ms -lt 15000 ] && grep -q 'render worker did not stop within 5 s' '$log'"
+
+# A worker that finished a render just before shutdown and is slow to resume its connection (a test
+# build sleeps $LUCENTD_FAULT_RESUME_DELAY_MS first: 3 s, past the drain's 2 s flush). lucentd stops
+# HTTP only once that resume has returned; before, it stopped first and the resume used freed memory
+# (AddressSanitizer reports it in the sanitizer run).
+unset LUCENT_FAULTS
+LUCENTD_FAULT_RESUME_DELAY_MS=3000 start S --store-dir "$work/storeS" --drain-timeout 10 --log-level debug
+curl -s -o "$work/s.png" "$base/v1/render?w=64&h=64" &
+client=$!
+for _ in $(seq 1 600); do grep -q 'render [0-9a-f]*: rendered' "$log" && break; sleep 0.05; done
+t0=$(date +%s%N)
+stop "$pid"; rc=$?
+ms=$(ms_since "$t0")
+wait "$client"
+check "SIGTERM while a finished render's connection is being resumed: exit $rc after $ms ms (3000-8000), stopped cleanly" \
+    bash -c "[ $rc = 0 ] && [ $ms -ge 3000 -a $ms -lt 8000 ] && grep -q 'lucentd: stopped' '$log' && ! grep -q 'ERROR: AddressSanitizer' '$log'"
 
 echo "$passed passed, $failed failed"
 [[ $failed == 0 ]]

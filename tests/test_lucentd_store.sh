@@ -33,8 +33,8 @@ mesh_id() { json_field "$1" '["id"]'; }
 sha() { sha256sum "$1" | cut -d' ' -f1; }
 temporaries() { find "$1" -name '.tmp-*' | wc -l; }
 render_mesh() { req "$work/r.png" GET "$base/v1/render?w=48&h=48&mesh=$1&preset=$2"; }
-# importers MARK: importer processes whose command line has MARK (the store path) in it.
-importers() { pgrep -f "lucent-import.*$1" | wc -l; }
+# importers: lucent-import processes (run by descriptor, their command line starts with the name).
+importers() { pgrep -f '^lucent-import --format' | wc -l; }
 
 # ---- kill -9 during an upload ----
 store=$work/store
@@ -57,12 +57,16 @@ start S1 --store-dir "$store"
 c=$(upload "$work/a.obj" "$work/a.json"); a=$(mesh_id "$work/a.json")
 check "mesh A stored ($c)" [ "$c" = 201 ]
 upload "$work/big.obj" "$work/big.json" >/dev/null &
-for _ in $(seq 1 600); do (( $(importers "$store") > 0 )) && break; sleep 0.05; done
-check "an upload is being imported: $(importers "$store") importer, $(temporaries "$store") temporaries in the store" \
-    [ "$(importers "$store")" -ge 1 ]
+for _ in $(seq 1 600); do (( $(importers) > 0 )) && break; sleep 0.05; done
+check "an upload is being imported: $(importers) importer, $(temporaries "$store") temporaries in the store" \
+    [ "$(importers)" -ge 1 ]
 kill -KILL "$pid"; wait "$pid" 2>/dev/null
-# The importer is the daemon's child, not killed with it; a restart must cope with what it leaves.
-for _ in $(seq 1 600); do (( $(importers "$store") == 0 )) && break; sleep 0.1; done
+# The importer dies with the daemon (PR_SET_PDEATHSIG); a restart must cope with what it leaves.
+t0=$(date +%s%N)
+for _ in $(seq 1 600); do (( $(importers) == 0 )) && break; sleep 0.02; done
+gone_ms=$(ms_since "$t0")
+check "the importer died with the daemon: $(importers) left after $gone_ms ms (bound 1000 ms; the import takes seconds)" \
+    [ "$(importers)" = 0 -a "$gone_ms" -lt 1000 ]
 left=$(temporaries "$store")
 start S2 --store-dir "$store"
 removed=$(grep -c 'removed the unfinished or damaged file' "$log")

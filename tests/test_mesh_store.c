@@ -6,6 +6,7 @@
 #endif
 
 #include "lucent.h"
+#include "import_jail.h"
 #include "mesh_store.h"
 #include "test_support.h"
 
@@ -21,6 +22,7 @@
 #include <unistd.h>
 
 static const char *import_tool;
+static struct import_jail *jail; /* the one open_store gives its stores */
 static struct import_limits LIMITS = {512u << 20, 10, 20, LUCENT_MAX_TRIANGLES};
 
 static const char TRIANGLE_OBJ[] = "v 10 0 0\nv 11 0 0\nv 10 1 0\nf 1 2 3\n";
@@ -45,12 +47,13 @@ static void make_dir(char *path)
 }
 
 /* Number of directory entries (besides . and ..); how many start with prefix when it is not NULL. */
+/* Files in the store but its MAC key, store.key, which every store has. */
 static int count_files(const char *dir, const char *prefix)
 {
     int n = 0;
     DIR *d = opendir(dir);
     for (struct dirent *e; d && (e = readdir(d));)
-        n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..") &&
+        n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && strcmp(e->d_name, "store.key") &&
              (!prefix || strncmp(e->d_name, prefix, strlen(prefix)) == 0);
     if (d)
         closedir(d);
@@ -94,7 +97,7 @@ static struct mesh_store *open_store(const char *dir, uint64_t budget)
 {
     struct mesh_store *s = NULL;
     lucent_error err = {0};
-    lucent_status st = mesh_store_open(dir, budget, import_tool, &LIMITS, &s, &err);
+    lucent_status st = mesh_store_open(dir, budget, NULL, jail, &LIMITS, &s, &err);
     if (!test_check(st == LUCENT_OK, "open %s with a %llu-byte budget: %s %s", dir, (unsigned long long)budget,
                     lucent_status_name(st), err.message))
         exit(test_finish());
@@ -254,30 +257,41 @@ static void check_budget(void)
     struct mesh_store *probe = open_store(dir, 1 << 20);
     lucent_status st = mesh_store_put(probe, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", id, &info, &created, &err);
     uint64_t one = mesh_store_bytes(probe);
+    test_check(st == LUCENT_OK, "one triangle takes %llu bytes of the store", (unsigned long long)one);
     mesh_store_close(probe);
     remove_dir(dir);
 
-    /* room for the triangle and a little more, not for a second mesh */
+    /* room for two meshes: a third evicts the least recently used */
+    static const char wider[] = "v 10 0 0\nv 12 0 0\nv 10 1 0\nf 1 2 3\n";
+    char a[65], b[65], c[65], path[PATH_MAX];
     make_dir(dir);
-    struct mesh_store *s = open_store(dir, one + one / 2);
-    st = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", id, &info, &created, &err);
-    test_check(st == LUCENT_OK && created == 1, "a %llu-byte mesh in a %llu-byte budget: %s",
-               (unsigned long long)one, (unsigned long long)(one + one / 2), lucent_status_name(st));
-    st = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), "model/obj", id, &info, &created, &err);
-    test_check(st == LUCENT_E_LIMIT && mesh_store_bytes(s) == one && count_files(dir, NULL) == 2,
-               "a second mesh is refused: %s \"%s\"; the store still holds %llu bytes in 2 files",
-               lucent_status_name(st), err.message, (unsigned long long)mesh_store_bytes(s));
-    st = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", id, &info, &created, &err);
-    test_check(st == LUCENT_OK && created == 0, "re-putting the stored mesh still works when full: %s",
-               lucent_status_name(st));
+    uint64_t budget = 2 * one + one / 2;
+    struct mesh_store *s = open_store(dir, budget);
+    lucent_status sa = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", a, &info, &created, &err);
+    lucent_status sb = mesh_store_put(s, wider, strlen(wider), "model/obj", b, &info, &created, &err);
+    lucent_status ga = mesh_store_get(s, a, &info, path, sizeof path, &err); /* A is now the more recent */
+    lucent_status sc = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), "model/obj", c, &info, &created, &err);
+    lucent_status gb = mesh_store_get(s, b, &info, path, sizeof path, &err);
+    lucent_status ga2 = mesh_store_get(s, a, &info, path, sizeof path, &err);
+    lucent_status gc = mesh_store_get(s, c, &info, path, sizeof path, &err);
+    test_check(sa == LUCENT_OK && sb == LUCENT_OK && ga == LUCENT_OK && sc == LUCENT_OK && gb == LUCENT_E_INVALID &&
+                   ga2 == LUCENT_OK && gc == LUCENT_OK && mesh_store_bytes(s) <= budget && count_files(dir, NULL) == 4,
+               "A, B, a get of A, then C in a %llu-byte budget: B, the least recently used, evicted (%s); A (%s) and "
+               "C (%s) kept, %llu bytes in %d files", (unsigned long long)budget, lucent_status_name(gb),
+               lucent_status_name(ga2), lucent_status_name(gc), (unsigned long long)mesh_store_bytes(s),
+               count_files(dir, NULL));
     mesh_store_close(s);
+    remove_dir(dir);
 
-    /* a budget already exhausted refuses before importing */
+    /* a mesh larger than the whole budget is refused, and evicts nothing */
+    make_dir(dir);
     s = open_store(dir, one);
-    double t0 = seconds();
-    st = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), "model/obj", id, &info, &created, &err);
-    test_check(st == LUCENT_E_LIMIT && strstr(err.message, "full"), "a full store: %s in %.4f s \"%s\"",
-               lucent_status_name(st), seconds() - t0, err.message);
+    sa = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", a, &info, &created, &err);
+    sc = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), "model/obj", c, &info, &created, &err);
+    test_check(sa == LUCENT_OK && sc == LUCENT_E_LIMIT && strstr(err.message, "whole budget") &&
+                   mesh_store_bytes(s) == one,
+               "a mesh larger than the whole budget: %s \"%s\"; the stored one stays (%llu bytes)",
+               lucent_status_name(sc), err.message, (unsigned long long)mesh_store_bytes(s));
     mesh_store_close(s);
     remove_dir(dir);
 }
@@ -346,10 +360,14 @@ static void check_concurrency(void)
     fprintf(w, "#!/bin/sh\necho run >> '%s'\nexec '%s' \"$@\"\n", runs, import_tool);
     fclose(w);
     chmod(wrapper, 0755);
-    const char *real_tool = import_tool;
-    import_tool = wrapper;
+    struct import_jail *real_jail = jail;
+    lucent_error err = {0};
+    if (!test_check(import_jail_open(wrapper, NULL, &jail, &err) == LUCENT_OK, "a jail for the counting wrapper %s",
+                    err.message))
+        return;
+    struct import_jail *wrapper_jail = jail;
     struct mesh_store *s = open_store(dir, 1 << 20);
-    import_tool = real_tool;
+    jail = real_jail;
     const char *same[4] = {QUAD_OBJ, QUAD_OBJ, QUAD_OBJ, QUAD_OBJ};
     double t0 = seconds();
     int created = put_four(s, same, p);
@@ -368,12 +386,85 @@ static void check_concurrency(void)
                count_files(dir, NULL), (unsigned long long)mesh_store_bytes(s), seconds() - t0);
     uint64_t bytes = mesh_store_bytes(s);
     mesh_store_close(s);
+    import_jail_close(wrapper_jail);
     s = open_store(dir, 1 << 20);
     test_check(mesh_store_bytes(s) == bytes, "reopened: %llu bytes, the same as counted in memory",
                (unsigned long long)mesh_store_bytes(s));
     mesh_store_close(s);
     remove_dir(dir);
     remove_dir(tools);
+}
+
+/* ---- integrity: a stored mesh changed on disk is never served ---- */
+
+/* Copies the file src over dst in place (same inode, as an attacker writing into the store would). */
+static void overwrite(const char *src, const char *dst)
+{
+    size_t len = 0;
+    FILE *in = fopen(src, "rb"), *out = fopen(dst, "r+b");
+    char buf[4096];
+    if (in && out)
+        while ((len = fread(buf, 1, sizeof buf, in)) > 0)
+            fwrite(buf, 1, len, out);
+    if (in)
+        fclose(in);
+    if (out)
+        fclose(out);
+}
+
+static void check_integrity(void)
+{
+    char dir[64], a[65], b[65], path_a[PATH_MAX], path_b[PATH_MAX], key[PATH_MAX], other_key[PATH_MAX];
+    struct mesh_info info;
+    lucent_error err = {0};
+    int created;
+    struct stat st;
+    make_dir(dir);
+    struct mesh_store *s = open_store(dir, 1 << 20);
+    snprintf(key, sizeof key, "%s/store.key", dir);
+    int key_seen = stat(key, &st) == 0;
+    test_check(key_seen && st.st_size == 32 && (st.st_mode & 0777) == 0600,
+               "the store made its MAC key: %lld bytes, mode %o", (long long)st.st_size, st.st_mode & 0777);
+    static const char same_size[] = "v 10 0 0\nv 12 0 0\nv 10 1 0\nf 1 2 3\n"; /* as TRIANGLE_OBJ, wider */
+    lucent_status sa = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", a, &info, &created, &err);
+    lucent_status sb = mesh_store_put(s, same_size, strlen(same_size), "model/obj", b, &info, &created, &err);
+    mesh_store_close(s);
+    s = open_store(dir, 1 << 20);
+    lucent_status ga = mesh_store_get(s, a, &info, path_a, sizeof path_a, &err);
+    lucent_status gb = mesh_store_get(s, b, &info, path_b, sizeof path_b, &err);
+    test_check(sa == LUCENT_OK && sb == LUCENT_OK && ga == LUCENT_OK && gb == LUCENT_OK,
+               "two meshes stored, reopened and checked against their MACs with the same key: %s %s", a, b);
+
+    /* B's compact file is a sound mesh with a valid checksum: only the MAC, which covers the id, tells */
+    overwrite(path_b, path_a);
+    lucent_status swapped = mesh_store_get(s, a, &info, path_a, sizeof path_a, &err);
+    test_check(swapped == LUCENT_E_IO && strcmp(err.field, "mesh.id") == 0 && strstr(err.message, "integrity"),
+               "another stored mesh copied over A's file: %s, field %s: %s", lucent_status_name(swapped), err.field,
+               err.message);
+    lucent_status again = mesh_store_get(s, a, &info, path_a, sizeof path_a, &err);
+    test_check(again == LUCENT_E_INVALID && count_files(dir, NULL) == 2,
+               "then A is gone (%s: %s), B's files stay (%d files)", lucent_status_name(again), err.message,
+               count_files(dir, NULL));
+    mesh_store_close(s);
+
+    /* the same store under another key: nothing in it verifies */
+    snprintf(other_key, sizeof other_key, "%s.other-key", dir);
+    struct mesh_store *t = NULL;
+    lucent_status opened = mesh_store_open(dir, 1 << 20, other_key, jail, &LIMITS, &t, &err);
+    lucent_status under_other = opened == LUCENT_OK ? mesh_store_get(t, b, &info, path_b, sizeof path_b, &err) : opened;
+    test_check(under_other == LUCENT_E_IO, "B read with another --store-key: %s: %s", lucent_status_name(under_other),
+               err.message);
+    mesh_store_close(t);
+    unlink(other_key);
+
+    chmod(key, 0644);
+    t = NULL;
+    opened = mesh_store_open(dir, 1 << 20, NULL, jail, &LIMITS, &t, &err);
+    test_check(opened == LUCENT_E_IO && strcmp(err.field, "store-key") == 0,
+               "a key other users may read is refused: %s, field %s: %s", lucent_status_name(opened), err.field,
+               err.message);
+    mesh_store_close(t);
+    remove_dir(dir);
 }
 
 int main(int argc, char **argv)
@@ -383,6 +474,11 @@ int main(int argc, char **argv)
         return 2;
     }
     import_tool = argv[1];
+    lucent_error err = {0};
+    if (import_jail_open(import_tool, NULL, &jail, &err) != LUCENT_OK) {
+        fprintf(stderr, "%s\n", err.message);
+        return 1;
+    }
     /* set by sanitizer builds: AddressSanitizer reserves terabytes of address space up front */
     if (getenv("LUCENT_TEST_UNLIMITED_ADDRESS_SPACE"))
         LIMITS.address_space_bytes = SIZE_MAX;
@@ -390,5 +486,7 @@ int main(int argc, char **argv)
     check_ids();
     check_budget();
     check_concurrency();
+    check_integrity();
+    import_jail_close(jail);
     return test_finish();
 }
