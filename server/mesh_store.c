@@ -598,6 +598,12 @@ static lucent_status verify(struct mesh_store *s, const char *id, const char *pa
 {
     struct stat st;
     struct file_stamp now;
+    /* every render gets its mesh: an unchanged file costs one lstat, and is opened only to be hashed */
+    if (lstat(path, &st) == 0 && S_ISREG(st.st_mode)) {
+        stamp_of(&st, &now);
+        if (same_stamp(checked, &now))
+            return LUCENT_OK;
+    }
     int fd = open(path, O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
     if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
         if (fd >= 0)
@@ -605,10 +611,6 @@ static lucent_status verify(struct mesh_store *s, const char *id, const char *pa
         return damaged(s, id, "its file is missing or not a regular file", err);
     }
     stamp_of(&st, &now);
-    if (same_stamp(checked, &now)) {
-        close(fd);
-        return LUCENT_OK;
-    }
     char found[STORE_MAC_HEX + 1];
     lucent_status status = store_mac_of_file(s->key, id, fd, found, err);
     close(fd);
