@@ -6,6 +6,7 @@
 #include "lucent.h"
 
 #include <microhttpd.h>
+#include <time.h>
 
 struct metrics;
 struct image_cache;
@@ -74,5 +75,7 @@ int render_queue_open_jobs(struct render_queue *q);
 int render_queue_destroy(struct render_queue *q, double wait_s);
 
 double monotonic_seconds(void);
+/* CLOCK_REALTIME `seconds` from now, the form pthread_cond_timedwait takes. */
+struct timespec realtime_after(double seconds);
 
 #endif

@@ -1,7 +1,7 @@
 /* resume_gate.c - the count of resumes in flight (contract in resume_gate.h). Without it a worker
  * that had finished a job but not yet resumed its connection could call into a stopped daemon. */
 #include "resume_gate.h"
-#include "render_queue.h" /* monotonic_seconds */
+#include "render_queue.h" /* monotonic_seconds, realtime_after */
 
 #include <pthread.h>
 #include <stdlib.h>
@@ -66,11 +66,7 @@ int resume_gate_wait(struct resume_gate *g, double deadline)
 {
     pthread_mutex_lock(&g->lock);
     while (g->in_flight > 0 && monotonic_seconds() < deadline) {
-        struct timespec ts;
-        clock_gettime(CLOCK_REALTIME, &ts);
-        ts.tv_nsec += 50 * 1000000L;
-        if (ts.tv_nsec >= 1000000000L)
-            ts.tv_sec++, ts.tv_nsec -= 1000000000L;
+        struct timespec ts = realtime_after(0.05);
         pthread_cond_timedwait(&g->idle, &g->lock, &ts);
     }
     int left = g->in_flight;

@@ -161,13 +161,7 @@ int upload_queue_wait_idle(struct upload_queue *q, double deadline)
 {
     pthread_mutex_lock(&q->lock);
     while (q->running > 0 && monotonic_seconds() < deadline) {
-        struct timespec ts;
-        clock_gettime(CLOCK_REALTIME, &ts);
-        ts.tv_nsec += 50 * 1000 * 1000;
-        if (ts.tv_nsec >= 1000000000) {
-            ts.tv_sec++;
-            ts.tv_nsec -= 1000000000;
-        }
+        struct timespec ts = realtime_after(0.05);
         pthread_cond_timedwait(&q->idle, &q->lock, &ts);
     }
     int running = q->running;

@@ -342,8 +342,15 @@ for i in range(1000):
 print(bad, marks[200], marks[1000])
 EOF2
 read -r rss_bad rss_200 rss_1000 <"$work/rss.txt"
-check "1000 renders: $rss_bad failed; resident memory ${rss_200} kB after 200, ${rss_1000} kB after 1000 (growth < 4 MB)" \
-    [ "$rss_bad" = 0 -a $(( rss_1000 - rss_200 )) -lt 4096 ]
+# Under AddressSanitizer resident memory grows with its quarantine of freed blocks (16 MB here once), so
+# there only the renders are checked and LeakSanitizer stands in for the bound.
+if [ -n "${LUCENT_TEST_SANITIZED:-}" ]; then
+    check "1000 renders: $rss_bad failed; resident memory ${rss_200} kB after 200, ${rss_1000} kB after 1000 (not bounded under ASan)" \
+        [ "$rss_bad" = 0 ]
+else
+    check "1000 renders: $rss_bad failed; resident memory ${rss_200} kB after 200, ${rss_1000} kB after 1000 (growth < 4 MB)" \
+        [ "$rss_bad" = 0 -a $(( rss_1000 - rss_200 )) -lt 4096 ]
+fi
 # SIGTERM while a render runs (default drain timeout, 30 s): the render is answered. A reference render of
 # 1000 points (1.7 s here) is in flight long after the poll sees it, and the log's order shows it was still
 # running when the daemon noticed SIGTERM. The query's reference_points and reference_threshold come back
@@ -540,6 +547,37 @@ c=$(req "$work/r5" GET "$R/v1/materials")
 check "after Retry-After the client passes again ($c)" [ "$c" = 200 ]
 stop "$R_pid"; rc=$?
 check "R: exit 0 ($rc)" [ "$rc" = 0 ]
+
+# ---- N: a machine that refuses namespaces. lucentd runs as an unprivileged user in a user namespace
+# whose parent allows no further one (user.max_user_namespaces 1, taken by its own): it says so at
+# start and in /readyz, imports through the rest of the sandbox, and the seccomp filter still stops
+# an escaping importer ----
+if unshare -Ur true 2>/dev/null; then
+    printf '%s\n' '#!/bin/sh' \
+        "exec unshare -Ur sh -c 'echo 1 >/proc/sys/user/max_user_namespaces && exec unshare -U --map-user=1000 --map-group=1000 \"\$0\" \"\$@\"' '$lucentd' \"\$@\"" \
+        >"$work/no-namespaces"
+    chmod +x "$work/no-namespaces"
+    real_lucentd=$lucentd
+    lucentd=$work/no-namespaces
+    start N --store-dir "$work/storeN"
+    N=$base
+    N_pid=$pid
+    ns=$(curl -s "$N/readyz" | python3 -c 'import json,sys; print(json.load(sys.stdin)["import_sandbox"]["namespaces"] or "none")')
+    said=$(grep -o 'namespaces refused here ([^)]*)' "$log" | head -1)
+    check "namespaces refused: /readyz import_sandbox.namespaces = $ns, the log says \"$said\"" \
+        [ "$ns" = none -a -n "$said" ]
+    c=$(req "$work/e" POST "$N/v1/meshes" -H 'Content-Type: model/obj' --data-binary "@$cube")
+    check "without namespaces an upload is imported ($c)" [ "$c" = 201 ]
+    stop "$N_pid"
+    start N2 --store-dir "$work/storeN2" --import-tool "$hostile_importer"
+    lucentd=$real_lucentd
+    c=$(req "$work/e" POST "$base/v1/meshes" -H 'Content-Type: model/obj' --data-binary $'connect\nv 0 0 0')
+    check "without namespaces an importer connecting a socket is still stopped ($c): $(json_field "$work/e" '["detail"]' | cut -c1-50)" \
+        problem_with "$work/e" 422 mesh 'stopped by its sandbox'
+    stop "$pid"
+else
+    echo "   (N skipped: this machine makes no user namespace, so every daemon above ran without one)"
+fi
 
 # ---- K: budgets a client cannot exhaust: connections per client, the whole-request deadline, the body
 # budget over all connections, and an endless chunked body (tests/hostile_clients.py) ----
