@@ -1,5 +1,5 @@
-/* render_targets.c - creates the per-size GPU resources and wires them into descriptor sets.
- * Everything here is owned by struct render_targets and freed by render_targets_destroy. */
+/* render_targets.c - creates the per-size GPU resources and wires them into descriptor sets, re-creating
+ * only the group whose size changed. Everything here is owned by struct render_targets. */
 #include "render_targets.h"
 
 #include <string.h>
@@ -118,8 +118,7 @@ static lucent_status make_output(struct vk_context *ctx, struct render_targets *
 }
 
 static lucent_status make_descriptor_sets(struct vk_context *ctx, const struct pipelines *p,
-                                          const struct vk_buffer *uniforms, struct render_targets *t,
-                                          lucent_error *err)
+                                          struct render_targets *t, lucent_error *err)
 {
     lucent_status st = LUCENT_OK;
     VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
@@ -136,7 +135,15 @@ static lucent_status make_descriptor_sets(struct vk_context *ctx, const struct p
     VK_TRY(vkAllocateDescriptorSets(ctx->device, &ai, sets), err);
     t->projection_set = sets[0];
     t->scatter_set = sets[1];
+fail:
+    return st;
+}
 
+/* Points the descriptor sets at the current targets. The previous frame has finished (the renderer
+ * waits for every frame) and its command buffer is recorded anew, so the sets may be updated. */
+static void write_descriptor_sets(struct vk_context *ctx, const struct pipelines *p,
+                                  const struct vk_buffer *uniforms, const struct render_targets *t)
+{
     VkDescriptorBufferInfo ubo = {uniforms->buffer, 0, VK_WHOLE_SIZE};
     VkImageLayout ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     VkDescriptorImageInfo shadow = {p->shadow_compare, t->shadow_depth.view, ro};
@@ -171,8 +178,6 @@ static lucent_status make_descriptor_sets(struct vk_context *ctx, const struct p
         WRITE(t->scatter_set, 11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, &far[1])};
 #undef WRITE
     vkUpdateDescriptorSets(ctx->device, sizeof w / sizeof w[0], w, 0, NULL);
-fail:
-    return st;
 }
 
 static VkImageMemoryBarrier to_shader_read(VkImage image, VkImageAspectFlags aspect, uint32_t levels,
@@ -191,16 +196,21 @@ static VkImageMemoryBarrier to_shader_read(VkImage image, VkImageAspectFlags asp
  * sampling: give them a valid layout. The projection, normal and owned images are cleared once (no
  * flux, depth -1): frames write only the side views' corners of layers 1-4, and a bilinear read at a
  * corner's edge touches the texels beside it, so those must hold no flux rather than undefined
- * (possibly NaN) values; frames keep their layout transitions content-preserving for that reason. */
-static lucent_status prepare_layouts(struct vk_context *ctx, struct render_targets *t, lucent_error *err)
+ * (possibly NaN) values; frames keep their layout transitions content-preserving for that reason.
+ * Only new images are prepared: the others hold what the last frame left, in the layout it left. */
+static lucent_status prepare_layouts(struct vk_context *ctx, struct render_targets *t, int new_shadow,
+                                     int new_projection, lucent_error *err)
 {
     lucent_status st = LUCENT_OK;
+    if (!new_shadow && !new_projection)
+        return LUCENT_OK;
     VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                                    .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
     VK_TRY(vkBeginCommandBuffer(ctx->cmd, &bi), err);
     const struct vk_image *cleared[3] = {&t->projection, &t->normals, &t->owned};
     VkImageMemoryBarrier b[4];
-    for (int i = 0; i < 3; i++) {
+    uint32_t barriers = 0;
+    for (int i = 0; new_projection && i < 3; i++) {
         VkImageSubresourceRange all = {VK_IMAGE_ASPECT_COLOR_BIT, 0, cleared[i]->levels, 0, FRAME_MAX_VIEWS};
         VkImageMemoryBarrier to_clear = {.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
                                          .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
@@ -213,50 +223,25 @@ static lucent_status prepare_layouts(struct vk_context *ctx, struct render_targe
                              0, NULL, 1, &to_clear);
         VkClearColorValue empty = {.float32 = {0.0f, 0.0f, 0.0f, -1.0f}};
         vkCmdClearColorImage(ctx->cmd, cleared[i]->image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &empty, 1, &all);
-        b[i] = to_shader_read(cleared[i]->image, VK_IMAGE_ASPECT_COLOR_BIT, cleared[i]->levels, 0, FRAME_MAX_VIEWS);
-        b[i].oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-        b[i].srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        b[barriers] = to_shader_read(cleared[i]->image, VK_IMAGE_ASPECT_COLOR_BIT, cleared[i]->levels, 0,
+                                     FRAME_MAX_VIEWS);
+        b[barriers].oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+        b[barriers++].srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     }
-    b[3] = to_shader_read(t->shadow_depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, 1, 0, LUCENT_MAX_LIGHTS);
+    if (new_shadow)
+        b[barriers++] = to_shader_read(t->shadow_depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, 1, 0, LUCENT_MAX_LIGHTS);
     vkCmdPipelineBarrier(ctx->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                          VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL,
-                         0, NULL, 4, b);
+                         0, NULL, barriers, b);
     VK_TRY(vkEndCommandBuffer(ctx->cmd), err);
     st = vk_submit_and_wait(ctx, err);
 fail:
     return st;
 }
 
-lucent_status render_targets_create(struct vk_context *ctx, const struct pipelines *p,
-                                    const struct vk_buffer *uniforms, uint32_t width, uint32_t height,
-                                    uint32_t projection_size, uint32_t side_size, struct render_targets *t,
-                                    lucent_error *err)
-{
-    lucent_status st;
-    memset(t, 0, sizeof *t);
-    t->width = width;
-    t->height = height;
-    t->projection_size = projection_size;
-    t->side_size = side_size;
-    if ((st = make_shadow_maps(ctx, p, t, err)) || (st = make_projection(ctx, p, t, err)) ||
-        (st = make_gbuffer(ctx, p, t, err)) || (st = make_output(ctx, t, err)) ||
-        (st = make_descriptor_sets(ctx, p, uniforms, t, err)) || (st = prepare_layouts(ctx, t, err))) {
-        render_targets_destroy(ctx, t);
-        return st;
-    }
-    return LUCENT_OK;
-}
-
-void render_targets_destroy(struct vk_context *ctx, struct render_targets *t)
+static void destroy_projection(struct vk_context *ctx, struct render_targets *t)
 {
     VkDevice d = ctx->device;
-    vkDestroyDescriptorPool(d, t->pool, NULL);
-    vk_buffer_destroy(ctx, &t->far);
-    vk_buffer_destroy(ctx, &t->output);
-    vkDestroyFramebuffer(d, t->gbuffer_fb, NULL);
-    vk_image_destroy(ctx, &t->gbuffer_depth);
-    vk_image_destroy(ctx, &t->gbuffer_normal);
-    vk_image_destroy(ctx, &t->gbuffer_position);
     vkDestroyFramebuffer(d, t->lights_fb, NULL);
     vk_image_destroy(ctx, &t->lights_depth);
     vk_image_destroy(ctx, &t->light_normals);
@@ -273,9 +258,60 @@ void render_targets_destroy(struct vk_context *ctx, struct render_targets *t)
     vk_image_destroy(ctx, &t->normals);
     vkDestroyImageView(d, t->front_layer, NULL);
     vk_image_destroy(ctx, &t->projection);
+    t->lights_fb = t->sides_fb = t->front_fb = VK_NULL_HANDLE;
+    t->owned_base = t->front_normals = t->front_layer = VK_NULL_HANDLE;
+    t->projection_size = t->side_size = 0;
+}
+
+static void destroy_image_sized(struct vk_context *ctx, struct render_targets *t)
+{
+    vk_buffer_destroy(ctx, &t->far);
+    vk_buffer_destroy(ctx, &t->output);
+    vkDestroyFramebuffer(ctx->device, t->gbuffer_fb, NULL);
+    t->gbuffer_fb = VK_NULL_HANDLE;
+    vk_image_destroy(ctx, &t->gbuffer_depth);
+    vk_image_destroy(ctx, &t->gbuffer_normal);
+    vk_image_destroy(ctx, &t->gbuffer_position);
+    t->width = t->height = 0;
+}
+
+lucent_status render_targets_fit(struct vk_context *ctx, const struct pipelines *p, const struct vk_buffer *uniforms,
+                                 uint32_t width, uint32_t height, uint32_t projection_size, uint32_t side_size,
+                                 struct render_targets *t, lucent_error *err)
+{
+    int new_shadow = t->shadow_depth.image == VK_NULL_HANDLE;
+    int new_projection = t->projection_size != projection_size || t->side_size != side_size;
+    int new_image = t->width != width || t->height != height;
+    if (!new_shadow && !new_projection && !new_image)
+        return LUCENT_OK;
+    lucent_status st = LUCENT_OK;
+    if (new_projection)
+        destroy_projection(ctx, t);
+    if (new_image)
+        destroy_image_sized(ctx, t);
+    t->projection_size = projection_size;
+    t->side_size = side_size;
+    t->width = width;
+    t->height = height;
+    if ((new_shadow && ((st = make_shadow_maps(ctx, p, t, err)) || (st = make_descriptor_sets(ctx, p, t, err)))) ||
+        (new_projection && (st = make_projection(ctx, p, t, err))) ||
+        (new_image && ((st = make_gbuffer(ctx, p, t, err)) || (st = make_output(ctx, t, err)))) ||
+        (st = prepare_layouts(ctx, t, new_shadow, new_projection, err))) {
+        render_targets_destroy(ctx, t);
+        return st;
+    }
+    write_descriptor_sets(ctx, p, uniforms, t);
+    return LUCENT_OK;
+}
+
+void render_targets_destroy(struct vk_context *ctx, struct render_targets *t)
+{
+    destroy_image_sized(ctx, t);
+    destroy_projection(ctx, t);
+    vkDestroyDescriptorPool(ctx->device, t->pool, NULL);
     for (int l = 0; l < LUCENT_MAX_LIGHTS; l++) {
-        vkDestroyFramebuffer(d, t->shadow_fb[l], NULL);
-        vkDestroyImageView(d, t->shadow_layer[l], NULL);
+        vkDestroyFramebuffer(ctx->device, t->shadow_fb[l], NULL);
+        vkDestroyImageView(ctx->device, t->shadow_layer[l], NULL);
     }
     vk_image_destroy(ctx, &t->shadow_depth);
     memset(t, 0, sizeof *t);

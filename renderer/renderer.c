@@ -187,16 +187,13 @@ static lucent_status check_device_limits(const lucent_renderer *r, const lucent_
 
 static lucent_status ensure_targets(lucent_renderer *r, const lucent_scene *s, int side_size, lucent_error *err)
 {
-    struct render_targets *t = &r->targets;
-    if (t->width == (uint32_t)s->width && t->height == (uint32_t)s->height &&
-        t->projection_size == (uint32_t)s->projection_size && t->side_size == (uint32_t)side_size)
-        return LUCENT_OK;
-    render_targets_destroy(&r->ctx, t);
-    if (r->verbose)
+    const struct render_targets *t = &r->targets;
+    if (r->verbose && (t->width != (uint32_t)s->width || t->height != (uint32_t)s->height ||
+                       t->projection_size != (uint32_t)s->projection_size || t->side_size != (uint32_t)side_size))
         fprintf(stderr, "lucent: render targets %dx%d, projection %d, sides %d\n", s->width, s->height,
                 s->projection_size, side_size);
-    return render_targets_create(&r->ctx, &r->pipes, &r->uniforms, (uint32_t)s->width, (uint32_t)s->height,
-                                 (uint32_t)s->projection_size, (uint32_t)side_size, t, err);
+    return render_targets_fit(&r->ctx, &r->pipes, &r->uniforms, (uint32_t)s->width, (uint32_t)s->height,
+                              (uint32_t)s->projection_size, (uint32_t)side_size, &r->targets, err);
 }
 
 static void read_pass_times(lucent_renderer *r, lucent_stats *stats)

@@ -1,5 +1,6 @@
 /* test_render_images.c - renders the sphere and the protrusion shape lit from the camera's right at
- * 90 degrees, with both methods, and checks what any correct translucent image must show. */
+ * 90 degrees, with both methods, and checks what any correct translucent image must show, and that
+ * frames of other sizes in between change nothing. */
 #include "test_support.h"
 
 #include <math.h>
@@ -116,15 +117,44 @@ static void check_view_choice(const lucent_image *img)
                "sphere/five: side-facing pixels use the image facing them (%d of %d)", matched, expected);
 }
 
+static void scene_json(char *json, size_t cap, const char *mesh, const char *method, int size, int projection)
+{
+    snprintf(json, cap,
+             "{\"mesh\":{\"builtin\":\"%s\"},\"material\":{\"preset\":\"marble\"},"
+             "\"lights\":[{\"type\":\"directional\",\"direction\":[-1,0,0],\"intensity\":3}],"
+             "\"width\":%d,\"height\":%d,\"method\":\"%s\",\"projection_size\":%d,\"format\":\"exr\"}",
+             mesh, size, size, method, projection);
+}
+
+/* The renderer keeps its targets between frames and re-creates only the group whose size changed: a
+ * frame after frames of another image size, then another projection size, is the same as the first. */
+static void check_size_changes(lucent_renderer *r)
+{
+    char json[800];
+    lucent_image first, img;
+    scene_json(json, sizeof json, "sphere", "five", SIZE, 128);
+    test_render(r, json, &first, NULL);
+    const int sizes[][2] = {{SIZE + 8, 128}, {SIZE, 128}, {SIZE, 64}, {SIZE + 8, 64}, {SIZE, 128}};
+    for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++) {
+        scene_json(json, sizeof json, "sphere", "five", sizes[i][0], sizes[i][1]);
+        test_render(r, json, &img, NULL);
+        if (i + 1 < sizeof sizes / sizeof sizes[0])
+            lucent_image_free(&img);
+    }
+    size_t differ = 0;
+    for (size_t k = 0; k < (size_t)SIZE * SIZE * 4; k++)
+        differ += memcmp(&first.rgba[k], &img.rgba[k], sizeof(float)) != 0;
+    test_check(differ == 0, "sphere/five at %d^2, projection 128, again after %d^2, then projection 64 and "
+                            "back: %zu of %d values differ", SIZE, SIZE + 8, differ, SIZE * SIZE * 4);
+    lucent_image_free(&img);
+    lucent_image_free(&first);
+}
+
 static void run(lucent_renderer *r, const char *mesh, const char *method)
 {
     char json[800], name[64];
     snprintf(name, sizeof name, "%s/%s", mesh, method);
-    snprintf(json, sizeof json,
-             "{\"mesh\":{\"builtin\":\"%s\"},\"material\":{\"preset\":\"marble\"},"
-             "\"lights\":[{\"type\":\"directional\",\"direction\":[-1,0,0],\"intensity\":3}],"
-             "\"width\":%d,\"height\":%d,\"method\":\"%s\",\"projection_size\":128,\"format\":\"exr\"}",
-             mesh, SIZE, SIZE, method);
+    scene_json(json, sizeof json, mesh, method, SIZE, 128);
     lucent_image img;
     lucent_stats stats;
     test_render(r, json, &img, &stats);
@@ -146,6 +176,7 @@ int main(void)
         run(r, meshes[m], "five");
         run(r, meshes[m], "single");
     }
+    check_size_changes(r);
     lucent_renderer_destroy(r);
     return test_finish();
 }
