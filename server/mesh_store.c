@@ -1,10 +1,13 @@
 /* mesh_store.c - the content-addressed mesh store (contract in mesh_store.h). Every file appears by
  * rename of an fsynced temporary; the metadata file, renamed last, marks a complete entry and holds
- * the mesh's MAC, checked whenever the mesh file is not the one last checked. */
+ * the mesh's MAC, checked whenever the mesh file is not the one last checked. Several processes may
+ * share the directory: the files are the truth, each process's index only a cache of them, and every
+ * change to the set of entries happens under store_lock(). */
 #define _GNU_SOURCE /* mkostemp */
 
 #include "mesh_store.h"
 #include "store_integrity.h"
+#include "store_lock.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -38,9 +41,15 @@ struct store_entry {
     char id[ID_LEN + 1];
     char mac[STORE_MAC_HEX + 1];
     struct mesh_info info;
-    uint64_t disk_bytes;        /* both files */
-    int64_t last_used;          /* the store's clock at its last put or get */
     struct file_stamp checked;  /* the mesh file as its MAC was last found right; ino 0: not yet */
+};
+
+/* One entry as found on disk; the metadata file's mtime is its last use (every get touches it), so
+ * every process sharing the store evicts by the same order. */
+struct census_entry {
+    char id[ID_LEN + 1];
+    uint64_t disk_bytes;        /* both files */
+    struct timespec last_used;
 };
 
 /* Ids being imported now: a second put of the same bytes waits for the first instead of importing
@@ -55,10 +64,9 @@ struct mesh_store {
     unsigned char key[STORE_KEY_BYTES];
     const struct import_jail *jail;
     struct import_limits lim;
-    uint64_t budget, used;
+    uint64_t budget, used;      /* used: the files' bytes at this process's last census */
     struct store_entry *entries;
     size_t count, cap;
-    int64_t clock;              /* ticks at each put and get; starts past every creation time */
     uint32_t *slots;            /* hash index: entry index + 1, 0 empty; linear probing */
     size_t slot_count;          /* a power of two, at least twice cap */
 };
@@ -161,35 +169,37 @@ static lucent_status index_reserve(struct mesh_store *s, lucent_error *err)
     return LUCENT_OK;
 }
 
-/* Removes an entry and its files (the metadata first: without it the entry is gone, and a mesh file
- * left behind is removed at the next open). The caller syncs the directory after unlocking. */
-static int remove_entry_locked(struct mesh_store *s, struct store_entry *e)
+/* Drops id from this process's index (its files are another matter). */
+static void index_forget_locked(struct mesh_store *s, const char *id)
 {
-    char mesh_path[PATH_MAX], meta_path[PATH_MAX];
-    entry_path(s, e->id, "lmesh", mesh_path);
-    entry_path(s, e->id, "json", meta_path);
-    if (unlink(meta_path) != 0 && errno != ENOENT)
-        return -1;
-    unlink(mesh_path);
-    s->used -= e->disk_bytes;
+    struct store_entry *e = index_find(s, id);
+    if (!e)
+        return;
     *e = s->entries[--s->count];
     index_rebuild(s);
-    return 0;
 }
 
-static void index_add(struct mesh_store *s, const char *id, const char *mac, const struct mesh_info *info,
-                      uint64_t disk_bytes)
+/* Removes an entry's files under the store lock: the metadata first (without it the entry is gone, and
+ * a mesh file left behind is removed at the next open). 1 removed, 0 there was none, -1 on failure.
+ * The caller syncs the directory once the locks are released. */
+static int unlink_entry(const struct mesh_store *s, const char *id)
+{
+    char mesh_path[PATH_MAX], meta_path[PATH_MAX];
+    entry_path(s, id, "lmesh", mesh_path);
+    entry_path(s, id, "json", meta_path);
+    if (unlink(meta_path) != 0)
+        return errno == ENOENT ? 0 : -1;
+    unlink(mesh_path);
+    return 1;
+}
+
+static void index_add(struct mesh_store *s, const char *id, const char *mac, const struct mesh_info *info)
 {
     struct store_entry *e = &s->entries[s->count++];
     memset(e, 0, sizeof *e);
     snprintf(e->id, sizeof e->id, "%s", id);
     snprintf(e->mac, sizeof e->mac, "%s", mac);
     e->info = *info;
-    e->disk_bytes = disk_bytes;
-    e->last_used = info->created > s->clock ? info->created : ++s->clock; /* at open: by creation */
-    if (e->last_used > s->clock)
-        s->clock = e->last_used;
-    s->used += disk_bytes;
     slot_insert(s, s->count - 1);
 }
 
@@ -237,16 +247,34 @@ static int metadata_read(const char *path, const char *id, char mac[STORE_MAC_HE
 
 /* ---- temporary files ---- */
 
+static lucent_status store_io_error(const char *what, lucent_error *err)
+{
+    return lucent_fail(err, lucent_io_status(errno), "", "%s: %s", what, strerror(errno));
+}
+
+/* A temporary is claimed while it is written, so a process opening the store meanwhile leaves it be;
+ * made and claimed under the store lock, so that process cannot see it unclaimed. */
 static lucent_status make_temp(const struct mesh_store *s, char path[PATH_MAX], int *fd, lucent_error *err)
 {
     snprintf(path, PATH_MAX, "%s/" TEMP_PREFIX "XXXXXX", s->dir);
-    *fd = mkostemp(path, O_CLOEXEC);
-    if (*fd < 0) {
+    int lock = store_lock(s->dir);
+    if (lock < 0) {
         path[0] = '\0';
-        return lucent_fail(err, lucent_io_status(errno), "", "cannot create a file in the mesh store: %s",
-                           strerror(errno));
+        return store_io_error("cannot lock the mesh store", err);
     }
-    return LUCENT_OK;
+    *fd = mkostemp(path, O_CLOEXEC);
+    lucent_status st = LUCENT_OK;
+    if (*fd < 0 || store_claim_file(*fd) != 0) {
+        st = store_io_error("cannot create a file in the mesh store", err);
+        if (*fd >= 0) {
+            close(*fd);
+            unlink(path);
+        }
+        *fd = -1;
+        path[0] = '\0';
+    }
+    store_unlock(lock);
+    return st;
 }
 
 static lucent_status write_all(int fd, const char *text, size_t len, lucent_error *err)
@@ -305,20 +333,76 @@ static int entry_name(const char *name, const char *ext, char id[ID_LEN + 1])
     return mesh_id_valid(id);
 }
 
+/* Reads the entry <id>.json names from disk; 0 when it is absent, incomplete or damaged. */
+static int entry_read(const struct mesh_store *s, const char *id, char mac[STORE_MAC_HEX + 1], struct mesh_info *info)
+{
+    char mesh_path[PATH_MAX], meta_path[PATH_MAX];
+    struct stat mesh_st;
+    entry_path(s, id, "lmesh", mesh_path);
+    entry_path(s, id, "json", meta_path);
+    return stat(mesh_path, &mesh_st) == 0 && S_ISREG(mesh_st.st_mode) && metadata_read(meta_path, id, mac, info);
+}
+
+/* Indexes an entry read from disk (unless the index has it already); 0 when out of memory. */
+static int index_learn_locked(struct mesh_store *s, const char *id, const char *mac, const struct mesh_info *info)
+{
+    if (index_find(s, id))
+        return 1;
+    if (index_reserve(s, NULL) != LUCENT_OK)
+        return 0;
+    index_add(s, id, mac, info);
+    return 1;
+}
+
 /* Indexes the entry <id>.json names; 0 when it is incomplete or damaged. */
 static int index_existing(struct mesh_store *s, const char *id)
 {
-    char mesh_path[PATH_MAX], meta_path[PATH_MAX];
-    struct stat mesh_st, meta_st;
     struct mesh_info info;
     char mac[STORE_MAC_HEX + 1];
-    entry_path(s, id, "lmesh", mesh_path);
-    entry_path(s, id, "json", meta_path);
-    if (stat(mesh_path, &mesh_st) != 0 || !S_ISREG(mesh_st.st_mode) || stat(meta_path, &meta_st) != 0 ||
-        !metadata_read(meta_path, id, mac, &info) || index_reserve(s, NULL) != LUCENT_OK)
-        return 0;
-    index_add(s, id, mac, &info, (uint64_t)mesh_st.st_size + (uint64_t)meta_st.st_size);
-    return 1;
+    return entry_read(s, id, mac, &info) && index_learn_locked(s, id, mac, &info);
+}
+
+/* Every complete entry on disk with its bytes and last use, and their total. Under the store lock. */
+static lucent_status census(const struct mesh_store *s, struct census_entry **out, size_t *count, uint64_t *total,
+                            lucent_error *err)
+{
+    char id[ID_LEN + 1], mesh_path[PATH_MAX], meta_path[PATH_MAX];
+    struct census_entry *list = NULL;
+    size_t n = 0, cap = 0;
+    *total = 0;
+    DIR *d = opendir(s->dir);
+    if (!d)
+        return store_io_error("cannot list the mesh store", err);
+    lucent_status st = LUCENT_OK;
+    for (struct dirent *e; st == LUCENT_OK && (e = readdir(d));) {
+        struct stat mesh_st, meta_st;
+        if (!entry_name(e->d_name, "json", id))
+            continue;
+        entry_path(s, id, "lmesh", mesh_path);
+        entry_path(s, id, "json", meta_path);
+        if (stat(meta_path, &meta_st) != 0 || stat(mesh_path, &mesh_st) != 0)
+            continue; /* half an entry: left for the next open to clean */
+        if (n == cap) {
+            struct census_entry *grown = realloc(list, (cap = cap ? 2 * cap : 64) * sizeof *list);
+            if (!grown) {
+                st = lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory listing the mesh store");
+                break;
+            }
+            list = grown;
+        }
+        memcpy(list[n].id, id, sizeof id);
+        list[n].disk_bytes = (uint64_t)mesh_st.st_size + (uint64_t)meta_st.st_size;
+        list[n].last_used = meta_st.st_mtim;
+        *total += list[n++].disk_bytes;
+    }
+    closedir(d);
+    if (st != LUCENT_OK || !out)
+        free(list);
+    else
+        *out = list;
+    if (count)
+        *count = n;
+    return st;
 }
 
 static void remove_leftover(const struct mesh_store *s, const char *name, int *removed)
@@ -331,18 +415,26 @@ static void remove_leftover(const struct mesh_store *s, const char *name, int *r
     }
 }
 
-/* Two passes: metadata (and temporaries) first, then meshes that no metadata claimed. */
+/* Two passes under the store lock: metadata (and temporaries no process still writes) first, then
+ * meshes that no metadata claimed. */
 static lucent_status scan(struct mesh_store *s, lucent_error *err)
 {
-    char id[ID_LEN + 1];
+    char id[ID_LEN + 1], path[PATH_MAX];
     int removed = 0;
+    int lock = store_lock(s->dir);
+    if (lock < 0)
+        return lucent_fail(err, LUCENT_E_IO, "", "cannot lock the mesh store \"%s\": %s", s->dir, strerror(errno));
     DIR *d = opendir(s->dir);
-    if (!d)
+    if (!d) {
+        store_unlock(lock);
         return lucent_fail(err, LUCENT_E_IO, "", "cannot list the mesh store \"%s\": %s", s->dir, strerror(errno));
+    }
     for (struct dirent *e; (e = readdir(d));) {
-        if (strncmp(e->d_name, TEMP_PREFIX, strlen(TEMP_PREFIX)) == 0)
-            remove_leftover(s, e->d_name, &removed);
-        else if (entry_name(e->d_name, "json", id) && !index_existing(s, id))
+        if (strncmp(e->d_name, TEMP_PREFIX, strlen(TEMP_PREFIX)) == 0) {
+            snprintf(path, sizeof path, "%s/%s", s->dir, e->d_name);
+            if (!store_file_claimed(path)) /* else another replica's upload in progress */
+                remove_leftover(s, e->d_name, &removed);
+        } else if (entry_name(e->d_name, "json", id) && !index_existing(s, id))
             remove_leftover(s, e->d_name, &removed);
     }
     rewinddir(d);
@@ -350,9 +442,11 @@ static lucent_status scan(struct mesh_store *s, lucent_error *err)
         if (entry_name(e->d_name, "lmesh", id) && !index_find(s, id))
             remove_leftover(s, e->d_name, &removed);
     closedir(d);
-    if (removed > 0 && !sync_dir(s->dir))
+    lucent_status st = census(s, NULL, NULL, &s->used, err);
+    store_unlock(lock);
+    if (st == LUCENT_OK && removed > 0 && !sync_dir(s->dir))
         return lucent_fail(err, LUCENT_E_IO, "", "cannot sync the mesh store \"%s\": %s", s->dir, strerror(errno));
-    return LUCENT_OK;
+    return st;
 }
 
 lucent_status mesh_store_open(const char *dir, uint64_t byte_budget, const char *key_file,
@@ -439,60 +533,89 @@ static lucent_status over_budget(const struct mesh_store *s, uint64_t needed, lu
                        "budget of %llu (--store-bytes)", (unsigned long long)needed, (unsigned long long)s->budget);
 }
 
-/* Makes room for `needed` more bytes by removing the least recently used meshes. */
-static void evict_locked(struct mesh_store *s, uint64_t needed)
+static int older_use(const void *a, const void *b)
 {
-    while (s->count > 0 && s->used + needed > s->budget) {
-        struct store_entry *oldest = &s->entries[0];
-        for (size_t k = 1; k < s->count; k++)
-            if (s->entries[k].last_used < oldest->last_used)
-                oldest = &s->entries[k];
-        char id[ID_LEN + 1];
-        memcpy(id, oldest->id, sizeof id);
-        if (remove_entry_locked(s, oldest) != 0)
+    const struct census_entry *x = a, *y = b;
+    if (x->last_used.tv_sec != y->last_used.tv_sec)
+        return x->last_used.tv_sec < y->last_used.tv_sec ? -1 : 1;
+    if (x->last_used.tv_nsec != y->last_used.tv_nsec)
+        return x->last_used.tv_nsec < y->last_used.tv_nsec ? -1 : 1;
+    return strcmp(x->id, y->id);
+}
+
+/* Makes room for `needed` more bytes by removing the least recently used meshes of the census (by any
+ * process), under the store lock; *used is what remains. */
+static void evict(struct mesh_store *s, struct census_entry *list, size_t count, uint64_t *used, uint64_t needed)
+{
+    qsort(list, count, sizeof *list, older_use);
+    for (size_t k = 0; k < count && *used + needed > s->budget; k++) {
+        if (unlink_entry(s, list[k].id) < 0)
             return; /* cannot delete: the put is refused as over budget */
-        fprintf(stderr, "lucent: mesh store: evicted mesh %s, the least recently used, to make room\n", id);
+        *used -= list[k].disk_bytes;
+        pthread_mutex_lock(&s->lock);
+        index_forget_locked(s, list[k].id);
+        pthread_mutex_unlock(&s->lock);
+        fprintf(stderr, "lucent: mesh store: evicted mesh %s, the least recently used, to make room\n", list[k].id);
     }
 }
 
-/* Moves both temporaries into place under the lock; clears their names once they are renamed. */
+/* Moves both temporaries into place under the store lock, unless some process stored the same id
+ * first; clears their names once they are renamed. */
 static lucent_status commit(struct mesh_store *s, const char *id, const char *mac, char *tmp_mesh, char *tmp_meta,
                             uint64_t disk_bytes, struct mesh_info *info, int *created, lucent_error *err)
 {
-    char mesh_path[PATH_MAX], meta_path[PATH_MAX];
+    char mesh_path[PATH_MAX], meta_path[PATH_MAX], stored_mac[STORE_MAC_HEX + 1];
+    struct mesh_info stored;
+    struct census_entry *list = NULL;
+    size_t count = 0;
+    uint64_t used = 0;
     lucent_status st = LUCENT_OK;
     entry_path(s, id, "lmesh", mesh_path);
     entry_path(s, id, "json", meta_path);
-    pthread_mutex_lock(&s->lock);
-    const struct store_entry *existing = index_find(s, id);
-    if (existing) { /* a concurrent put of the same bytes got here first */
-        *info = existing->info;
+    int lock = store_lock(s->dir);
+    if (lock < 0)
+        return store_io_error("cannot lock the mesh store", err);
+    if (entry_read(s, id, stored_mac, &stored)) { /* a concurrent put of the same bytes got here first */
+        *info = stored;
+        pthread_mutex_lock(&s->lock);
+        index_learn_locked(s, id, stored_mac, &stored);
+        pthread_mutex_unlock(&s->lock);
         goto unlock;
     }
     if (disk_bytes > s->budget) {
         st = over_budget(s, disk_bytes, err);
         goto unlock;
     }
-    evict_locked(s, disk_bytes);
-    if ((st = index_reserve(s, err)) != LUCENT_OK)
+    if ((st = census(s, &list, &count, &used, err)) != LUCENT_OK)
         goto unlock;
+    evict(s, list, count, &used, disk_bytes);
+    if (used + disk_bytes > s->budget) {
+        st = store_io_error("cannot evict meshes to make room", err);
+        goto unlock;
+    }
     if (rename(tmp_mesh, mesh_path) != 0) {
-        st = lucent_fail(err, lucent_io_status(errno), "", "cannot store the mesh: %s", strerror(errno));
+        st = store_io_error("cannot store the mesh", err);
         goto unlock;
     }
     tmp_mesh[0] = '\0';
     if (rename(tmp_meta, meta_path) != 0) {
-        st = lucent_fail(err, lucent_io_status(errno), "", "cannot store the mesh metadata: %s", strerror(errno));
+        st = store_io_error("cannot store the mesh metadata", err);
         unlink(mesh_path);
         goto unlock;
     }
     tmp_meta[0] = '\0';
-    index_add(s, id, mac, info, disk_bytes);
-    stamp_file(mesh_path, &s->entries[s->count - 1].checked); /* as renamed: the MAC was computed just now */
+    pthread_mutex_lock(&s->lock);
+    if (!index_find(s, id) && index_reserve(s, NULL) == LUCENT_OK) { /* else a get reads it from disk */
+        index_add(s, id, mac, info);
+        stamp_file(mesh_path, &s->entries[s->count - 1].checked); /* as renamed: the MAC was just computed */
+    }
+    s->used = used + disk_bytes;
+    pthread_mutex_unlock(&s->lock);
     *created = 1;
 unlock:
-    pthread_mutex_unlock(&s->lock);
-    /* outside the lock: a sync takes milliseconds to seconds, and every render's get takes the lock */
+    store_unlock(lock);
+    free(list);
+    /* after the locks: a sync takes milliseconds to seconds */
     if (*created && !sync_dir(s->dir)) /* the entry exists; only its durability is in doubt */
         st = lucent_fail(err, LUCENT_E_IO, "", "cannot sync the mesh store directory: %s", strerror(errno));
     return st;
@@ -529,6 +652,15 @@ lucent_status mesh_store_put(struct mesh_store *s, const void *bytes, size_t len
                            "model/gltf-binary, or application/octet-stream to have it recognized)");
     if ((st = sha256_hex(bytes, len, id_out, err)) != LUCENT_OK)
         return st;
+    char stored_mac[STORE_MAC_HEX + 1];
+    struct mesh_info stored;
+    if (entry_read(s, id_out, stored_mac, &stored)) { /* stored already, perhaps by another process */
+        pthread_mutex_lock(&s->lock);
+        index_learn_locked(s, id_out, stored_mac, &stored);
+        pthread_mutex_unlock(&s->lock);
+        *info = stored;
+        return LUCENT_OK;
+    }
 
     pthread_mutex_lock(&s->lock);
     const struct store_entry *existing;
@@ -577,16 +709,47 @@ static lucent_status absent(const char *id, lucent_error *err)
     return lucent_fail(err, LUCENT_E_INVALID, "mesh.id", "no mesh with id %s", id);
 }
 
+/* Removes an entry's files under the store lock and forgets it: 1 removed, 0 none on disk, -1 failed
+ * (errno set). */
+static int remove_entry(struct mesh_store *s, const char *id)
+{
+    int lock = store_lock(s->dir);
+    if (lock < 0)
+        return -1;
+    int removed = unlink_entry(s, id);
+    int saved = errno;
+    uint64_t used = 0;
+    int counted = census(s, NULL, NULL, &used, NULL) == LUCENT_OK;
+    pthread_mutex_lock(&s->lock);
+    index_forget_locked(s, id);
+    if (counted)
+        s->used = used;
+    pthread_mutex_unlock(&s->lock);
+    store_unlock(lock);
+    if (removed > 0)
+        sync_dir(s->dir);
+    errno = saved;
+    return removed;
+}
+
+/* Forgets an entry another process removed (its metadata is gone); 1 when that is so. */
+static int removed_elsewhere(struct mesh_store *s, const char *id)
+{
+    char meta_path[PATH_MAX];
+    entry_path(s, id, "json", meta_path);
+    if (access(meta_path, F_OK) == 0 || errno != ENOENT)
+        return 0;
+    pthread_mutex_lock(&s->lock);
+    index_forget_locked(s, id);
+    pthread_mutex_unlock(&s->lock);
+    return 1;
+}
+
 /* Drops an entry whose mesh failed its check; its files go with it (they are not what was stored). */
 static lucent_status damaged(struct mesh_store *s, const char *id, const char *why, lucent_error *err)
 {
     fprintf(stderr, "lucent: mesh store: mesh %s failed its integrity check (%s); removed\n", id, why);
-    pthread_mutex_lock(&s->lock);
-    struct store_entry *e = index_find(s, id);
-    int removed = e && remove_entry_locked(s, e) == 0;
-    pthread_mutex_unlock(&s->lock);
-    if (removed)
-        sync_dir(s->dir);
+    remove_entry(s, id);
     return lucent_fail(err, LUCENT_E_IO, "mesh.id",
                        "the stored mesh %s failed its integrity check (%s) and was removed; upload it again", id, why);
 }
@@ -605,6 +768,8 @@ static lucent_status verify(struct mesh_store *s, const char *id, const char *pa
             return LUCENT_OK;
     }
     int fd = open(path, O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
+    if (fd < 0 && errno == ENOENT && removed_elsewhere(s, id)) /* deleted or evicted by another replica */
+        return absent(id, err);
     if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
         if (fd >= 0)
             close(fd);
@@ -642,15 +807,23 @@ lucent_status mesh_store_get(struct mesh_store *s, const char *id, struct mesh_i
         memcpy(mac, e->mac, sizeof mac);
         checked = e->checked;
         found = e->info;
-        e->last_used = ++s->clock;
     }
     pthread_mutex_unlock(&s->lock);
-    if (!present)
-        return absent(id, err);
+    if (!present) { /* perhaps stored by another process since this one last looked */
+        if (!entry_read(s, id, mac, &found))
+            return absent(id, err);
+        pthread_mutex_lock(&s->lock);
+        index_learn_locked(s, id, mac, &found);
+        pthread_mutex_unlock(&s->lock);
+    }
     if ((size_t)snprintf(path, cap, "%s/%s.lmesh", s->dir, id) >= cap)
         return lucent_fail(err, LUCENT_E_INTERNAL, "", "the buffer for the mesh path is too small");
     if ((st = verify(s, id, path, mac, &checked, err)) != LUCENT_OK)
         return st;
+    /* the metadata's mtime is the entry's last use, which every process sharing the store evicts by */
+    char meta_path[PATH_MAX];
+    entry_path(s, id, "json", meta_path);
+    utimensat(AT_FDCWD, meta_path, NULL, 0);
     if (info)
         *info = found;
     return LUCENT_OK;
@@ -661,16 +834,12 @@ lucent_status mesh_store_delete(struct mesh_store *s, const char *id, lucent_err
     lucent_status st = check_id(id, err);
     if (st != LUCENT_OK)
         return st;
-    pthread_mutex_lock(&s->lock);
-    struct store_entry *e = index_find(s, id);
-    if (!e)
-        st = absent(id, err);
-    else if (remove_entry_locked(s, e) != 0)
-        st = lucent_fail(err, LUCENT_E_IO, "", "cannot delete mesh %s: %s", id, strerror(errno));
-    pthread_mutex_unlock(&s->lock);
-    if (st == LUCENT_OK && !sync_dir(s->dir))
-        st = lucent_fail(err, LUCENT_E_IO, "", "cannot sync the mesh store directory: %s", strerror(errno));
-    return st;
+    int removed = remove_entry(s, id);
+    if (removed == 0)
+        return absent(id, err);
+    if (removed < 0)
+        return lucent_fail(err, LUCENT_E_IO, "", "cannot delete mesh %s: %s", id, strerror(errno));
+    return LUCENT_OK;
 }
 
 uint64_t mesh_store_bytes(struct mesh_store *s)

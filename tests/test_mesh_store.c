@@ -1,5 +1,6 @@
 /* test_mesh_store.c - the content-addressed mesh store: ids, idempotent puts, reopening, deleting, the
- * byte budget, clean-up of interrupted writes, hostile ids and concurrent puts.
+ * byte budget, clean-up of interrupted writes, hostile ids, concurrent puts and several processes
+ * sharing one store.
  * Usage: test_mesh_store LUCENT_IMPORT */
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
@@ -8,6 +9,7 @@
 #include "lucent.h"
 #include "import_jail.h"
 #include "mesh_store.h"
+#include "store_lock.h"
 #include "test_support.h"
 
 #include <dirent.h>
@@ -17,7 +19,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -47,13 +51,14 @@ static void make_dir(char *path)
 }
 
 /* Number of directory entries (besides . and ..); how many start with prefix when it is not NULL. */
-/* Files in the store but its MAC key, store.key, which every store has. */
+/* Files in the store but its MAC key and lock file (store.key, store.lock), which every store has. */
 static int count_files(const char *dir, const char *prefix)
 {
     int n = 0;
     DIR *d = opendir(dir);
     for (struct dirent *e; d && (e = readdir(d));)
         n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && strcmp(e->d_name, "store.key") &&
+             strcmp(e->d_name, "store.lock") &&
              (!prefix || strncmp(e->d_name, prefix, strlen(prefix)) == 0);
     if (d)
         closedir(d);
@@ -312,6 +317,8 @@ static void *put_thread(void *arg)
     struct mesh_info info;
     lucent_error err = {0};
     p->status = mesh_store_put(p->store, p->bytes, strlen(p->bytes), "model/obj", p->id, &info, &p->created, &err);
+    if (p->status != LUCENT_OK)
+        printf("     a put failed: %s\n", err.message);
     return NULL;
 }
 
@@ -467,6 +474,134 @@ static void check_integrity(void)
     remove_dir(dir);
 }
 
+/* ---- several processes on one store (lucentd replicas on a shared volume) ---- */
+
+/* A small mesh of its own for each n. */
+static void numbered_obj(char *out, size_t cap, int n)
+{
+    snprintf(out, cap, "v %d 0 0\nv %d 0 0\nv %d 1 0\nf 1 2 3\n", 20 + n, 21 + n, 20 + n);
+}
+
+/* Opens the store in a child process and does one thing there: "put" (mesh text), "get" or "delete"
+ * (an id), or "puts" (six numbered meshes from base). The child's exit status: 0 when it went as asked. */
+static pid_t spawn(const char *dir, uint64_t budget, const char *what, const char *arg, int base)
+{
+    pid_t pid = fork();
+    if (pid != 0)
+        return pid;
+    struct mesh_store *s = NULL;
+    lucent_error err = {0};
+    struct mesh_info info;
+    char id[65], path[PATH_MAX], obj[128];
+    int created, ok = mesh_store_open(dir, budget, NULL, jail, &LIMITS, &s, &err) == LUCENT_OK;
+    if (ok && strcmp(what, "put") == 0)
+        ok = mesh_store_put(s, arg, strlen(arg), "model/obj", id, &info, &created, &err) == LUCENT_OK;
+    else if (ok && strcmp(what, "get") == 0)
+        ok = mesh_store_get(s, arg, &info, path, sizeof path, &err) == LUCENT_OK;
+    else if (ok && strcmp(what, "delete") == 0)
+        ok = mesh_store_delete(s, arg, &err) == LUCENT_OK;
+    for (int k = 0; ok && strcmp(what, "puts") == 0 && k < 6; k++) {
+        numbered_obj(obj, sizeof obj, base + k);
+        ok = mesh_store_put(s, obj, strlen(obj), "model/obj", id, &info, &created, &err) == LUCENT_OK;
+    }
+    if (!ok)
+        fprintf(stderr, "child %s: %s\n", what, err.message);
+    mesh_store_close(s);
+    _exit(ok ? 0 : 1);
+}
+
+static int reap(pid_t pid)
+{
+    int status;
+    return pid > 0 && waitpid(pid, &status, 0) == pid && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+static void check_sharing(void)
+{
+    char dir[64], path[PATH_MAX], id[65], a[65], b[65], c[65];
+    struct mesh_info info;
+    lucent_error err = {0};
+    int created;
+    make_dir(dir);
+    struct mesh_store *s = open_store(dir, 1 << 20);
+    int put = reap(spawn(dir, 1 << 20, "put", TRIANGLE_OBJ, 0));
+    lucent_status got = mesh_store_get(s, TRIANGLE_ID, &info, path, sizeof path, &err);
+    test_check(put == 0 && got == LUCENT_OK, "stored by another process after this one opened: child %d, get %s",
+               put, lucent_status_name(got));
+    int deleted = reap(spawn(dir, 1 << 20, "delete", TRIANGLE_ID, 0));
+    got = mesh_store_get(s, TRIANGLE_ID, &info, path, sizeof path, &err);
+    test_check(deleted == 0 && got == LUCENT_E_INVALID && strstr(err.message, "no mesh") && count_files(dir, NULL) == 0,
+               "deleted by another process: child %d, then get %s \"%s\" (a 404, not a damaged mesh), %d files",
+               deleted, lucent_status_name(got), err.message, count_files(dir, NULL));
+    mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", id, &info, &created, &err);
+    uint64_t one = mesh_store_bytes(s);
+    mesh_store_close(s);
+    remove_dir(dir);
+
+    /* eviction follows uses in every process: another process's get of A keeps A over B */
+    static const char wider[] = "v 10 0 0\nv 12 0 0\nv 10 1 0\nf 1 2 3\n";
+    uint64_t budget = 2 * one + one / 2;
+    make_dir(dir);
+    s = open_store(dir, budget);
+    mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", a, &info, &created, &err);
+    mesh_store_put(s, wider, strlen(wider), "model/obj", b, &info, &created, &err);
+    int used = reap(spawn(dir, budget, "get", a, 0));
+    lucent_status sc = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), "model/obj", c, &info, &created, &err);
+    lucent_status ga = mesh_store_get(s, a, &info, path, sizeof path, &err);
+    lucent_status gb = mesh_store_get(s, b, &info, path, sizeof path, &err);
+    test_check(used == 0 && sc == LUCENT_OK && ga == LUCENT_OK && gb == LUCENT_E_INVALID,
+               "A and B put here, A used by another process, then C: B evicted (%s), A kept (%s)",
+               lucent_status_name(gb), lucent_status_name(ga));
+    mesh_store_close(s);
+    remove_dir(dir);
+
+    /* four processes putting six meshes each at once into room for six: the budget holds and every entry
+     * left is whole */
+    budget = 6 * one + one / 2;
+    make_dir(dir);
+    pid_t writers[4];
+    for (int w = 0; w < 4; w++)
+        writers[w] = spawn(dir, budget, "puts", NULL, 10 * w);
+    int failed = 0;
+    for (int w = 0; w < 4; w++)
+        failed += reap(writers[w]) != 0;
+    s = open_store(dir, budget);
+    uint64_t bytes = mesh_store_bytes(s);
+    int entries = count_files(dir, NULL) / 2, whole = 0;
+    DIR *d = opendir(dir);
+    for (struct dirent *e; d && (e = readdir(d));)
+        if (strlen(e->d_name) == 69 && strcmp(e->d_name + 64, ".json") == 0) {
+            memcpy(id, e->d_name, 64);
+            id[64] = '\0';
+            whole += mesh_store_get(s, id, &info, path, sizeof path, &err) == LUCENT_OK;
+        }
+    if (d)
+        closedir(d);
+    test_check(failed == 0 && bytes <= budget && entries >= 1 && whole == entries && count_files(dir, ".tmp-") == 0 &&
+                   count_files(dir, NULL) == 2 * entries,
+               "4 processes x 6 puts at once into a %llu-byte budget: %d failed; %d entries of %llu bytes, %d whole, "
+               "%d temporaries", (unsigned long long)budget, failed, entries, (unsigned long long)bytes, whole,
+               count_files(dir, ".tmp-"));
+    mesh_store_close(s);
+    remove_dir(dir);
+
+    /* a process opening the store leaves another's upload in progress alone, and cleans it up once that
+     * process is gone */
+    make_dir(dir);
+    snprintf(path, sizeof path, "%s/.tmp-inflight", dir);
+    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+    int claimed = fd >= 0 && store_claim_file(fd) == 0;
+    int opened = reap(spawn(dir, 1 << 20, "open", NULL, 0));
+    int kept = file_exists(dir, ".tmp-inflight");
+    if (fd >= 0)
+        close(fd);
+    int reopened = reap(spawn(dir, 1 << 20, "open", NULL, 0));
+    test_check(claimed && opened == 0 && kept && reopened == 0 && !file_exists(dir, ".tmp-inflight"),
+               "a temporary another process still writes: kept by an opening store (%d); removed once released (%d)",
+               kept, !file_exists(dir, ".tmp-inflight"));
+    remove_dir(dir);
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2) {
@@ -487,6 +622,7 @@ int main(int argc, char **argv)
     check_budget();
     check_concurrency();
     check_integrity();
+    check_sharing();
     import_jail_close(jail);
     return test_finish();
 }
