@@ -21,6 +21,7 @@ packages=(
   curl python3 wrk
   libssl-dev
   libseccomp-dev
+  systemd strace
   gnuplot-nox
   clang libclang-rt-14-dev
   nodejs
@@ -36,8 +37,12 @@ command -v npm >/dev/null || "${sudo_cmd[@]}" apt-get install -y -q --no-install
 
 # The Stanford bunny ships in the npm package "bunny" (positions + cells in
 # index.js); tests convert it to OBJ at build time, it is never committed.
-# playwright-core (no bundled browser) drives Debian's chromium in tests/test_web.js.
+# playwright-core (no bundled browser) drives Debian's chromium in tests/test_web.js;
+# kubernetes-models, yaml and fast-json-patch check deploy/kubernetes in tests/test_kubernetes.mjs.
 if [[ ! -f "$top/tests/data/node_modules/bunny/index.js" ||
-      ! -f "$top/tests/data/node_modules/playwright-core/package.json" ]]; then
+      ! -f "$top/tests/data/node_modules/playwright-core/package.json" ||
+      ! -f "$top/tests/data/node_modules/kubernetes-models/package.json" ||
+      ! -f "$top/tests/data/node_modules/yaml/package.json" ||
+      ! -f "$top/tests/data/node_modules/fast-json-patch/package.json" ]]; then
   (cd "$top/tests/data" && npm install --no-package-lock --no-audit --no-fund --silent)
 fi

@@ -13,6 +13,7 @@
 #include "render_queue.h"
 #include "routes.h"
 #include "server.h"
+#include "service_notify.h"
 #include "upload_queue.h"
 
 #include "lucentd_build.h"
@@ -28,6 +29,8 @@
 
 #define TICK_NS (20 * 1000 * 1000) /* deadline sweep and signal check period */
 #define FLUSH_SECONDS 2.0          /* after draining, time given to resumed connections to send their answers */
+#define STUCK_SECONDS 5.0          /* a frame this long past its cancelled deadline: the worker is stuck */
+#define STATUS_SECONDS 1.0         /* the service manager's status line is refreshed at most this often */
 
 static volatile sig_atomic_t stop_signal;
 
@@ -51,6 +54,25 @@ static void tick(void)
 {
     struct timespec ts = {0, TICK_NS};
     nanosleep(&ts, NULL);
+}
+
+/* The service manager's status line and watchdog, once a tick. The watchdog goes unfed while the render
+ * worker is stuck in the driver, so a manager with WatchdogSec restarts a daemon that cannot render. */
+static void notify_tick(struct server *srv, struct service_notify *n, double now, double *last_status)
+{
+    int in_flight = 0, depth = render_queue_depth(srv->queue, &in_flight);
+    double overdue = render_queue_overdue_seconds(srv->queue, now);
+    int stuck = overdue > STUCK_SECONDS;
+    service_notify_watchdog(n, now, !stuck);
+    if (now - *last_status < STATUS_SECONDS)
+        return;
+    *last_status = now;
+    if (stuck)
+        service_notify_send(n, "STATUS=render worker stuck %.0f s past a render's deadline; watchdog not fed",
+                            overdue);
+    else
+        service_notify_send(n, "STATUS=serving on %s: %d renders queued or running (%d running)", srv->device,
+                            depth, in_flight);
 }
 
 /* The token is the file's first line; surrounding whitespace is dropped (editors add a newline). */
@@ -128,6 +150,10 @@ int main(int argc, char **argv)
     if (rc != 0)
         return rc > 0 ? 0 : 2;
     log_set_level(srv.cfg.log_level);
+    struct service_notify notify;
+    char notify_err[160];
+    if (service_notify_open(&notify, notify_err, sizeof notify_err) != 0)
+        log_line(LOG_WARN, "%s: the service manager is not told when lucentd is ready", notify_err);
     if (mallopt(M_MMAP_THRESHOLD, MMAP_THRESHOLD_BYTES) != 1)
         log_line(LOG_WARN, "cannot fix the allocator's mmap threshold: memory freed may stay resident");
     srv.started_at = (long long)time(NULL);
@@ -178,6 +204,7 @@ int main(int argc, char **argv)
         goto fail;
     log_line(LOG_INFO, "listening on http://%s%s%s:%u (version %s, renderer %.12s)", strchr(srv.cfg.listen, ':') ? "[" : "",
              srv.cfg.listen, strchr(srv.cfg.listen, ':') ? "]" : "", port, LUCENTD_VERSION, LUCENTD_RENDERER_HASH);
+    service_notify_send(&notify, "STATUS=warming the renderer (listening on port %u)", port);
     if (render_queue_wait_ready(srv.queue, srv.device, sizeof srv.device, &srv.max_pixels, &err) != 0)
         goto fail;
     atomic_store(&srv.phase, PHASE_SERVING);
@@ -186,8 +213,12 @@ int main(int argc, char **argv)
              srv.device, (monotonic_seconds() - t0) * 1e3, (unsigned long long)srv.cfg.max_body_bytes, srv.cfg.max_width,
              srv.cfg.max_height, (unsigned long long)srv.max_pixels, srv.cfg.max_triangles, srv.cfg.max_samples, srv.cfg.max_lights,
              srv.cfg.max_projection_size, srv.cfg.render_timeout_s, srv.cfg.queue_length, srv.cfg.max_connections);
+    service_notify_send(&notify, "READY=1\nSTATUS=serving on %s: 0 renders queued or running\nMAINPID=%ld", srv.device,
+                        (long)getpid());
+    double last_status = monotonic_seconds();
     while (!stop_signal) {
         render_queue_expire(srv.queue, monotonic_seconds());
+        notify_tick(&srv, &notify, monotonic_seconds(), &last_status);
         int slow = connection_guard_sweep(srv.guard, monotonic_seconds());
         if (slow > 0)
             log_line(LOG_INFO, "closed %d connection(s) that took over %g s to send a request (--request-timeout)",
@@ -197,6 +228,8 @@ int main(int argc, char **argv)
     log_line(LOG_INFO, "%s: draining (up to %g s)", stop_signal == SIGINT ? "SIGINT" : "SIGTERM",
              srv.cfg.drain_timeout_s);
     atomic_store(&srv.phase, PHASE_DRAINING);
+    service_notify_send(&notify, "STOPPING=1\nSTATUS=draining: %d renders queued or running (up to %g s)",
+                        render_queue_depth(srv.queue, NULL), srv.cfg.drain_timeout_s);
     MHD_socket listen_fd = MHD_quiesce_daemon(d);
     drain(&srv, d);
     if (stop_http(&srv, d) != 0)
@@ -209,7 +242,10 @@ int main(int argc, char **argv)
     goto done;
 fail:
     log_line(LOG_ERROR, "%s%s%s", err.field[0] ? err.field : "", err.field[0] ? ": " : "", err.message);
+    service_notify_send(&notify, "STATUS=failed to start: %s%s%s", err.field[0] ? err.field : "",
+                        err.field[0] ? ": " : "", err.message);
 done:
+    service_notify_close(&notify);
     if (d) {
         render_queue_cancel_all(srv.queue);
         upload_queue_cancel_all(srv.uploads);

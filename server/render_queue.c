@@ -420,6 +420,14 @@ uint64_t render_queue_abandoned(struct render_queue *q)
     return n;
 }
 
+double render_queue_overdue_seconds(struct render_queue *q, double now)
+{
+    pthread_mutex_lock(&q->lock);
+    double overdue = q->current && now > q->current->deadline ? now - q->current->deadline : 0.0;
+    pthread_mutex_unlock(&q->lock);
+    return overdue;
+}
+
 int render_queue_depth(struct render_queue *q, int *in_flight)
 {
     pthread_mutex_lock(&q->lock);

@@ -65,6 +65,9 @@ void render_queue_close(struct render_queue *q);
 int render_queue_recovering(struct render_queue *q);
 /* Jobs waiting or running; in_flight (may be NULL) gets the running count. */
 int render_queue_depth(struct render_queue *q, int *in_flight);
+/* Seconds the worker has been on its current render past that render's deadline (0 when none): the
+ * sweep cancels an overdue frame, so a worker that stays there is stuck in the driver. */
+double render_queue_overdue_seconds(struct render_queue *q, double now);
 /* Queued renders skipped because their client closed its connection while they waited. */
 uint64_t render_queue_abandoned(struct render_queue *q);
 /* Jobs not yet finished (resumed). */
