@@ -21,7 +21,7 @@ packages=(
   curl python3 wrk
   libssl-dev
   libseccomp-dev
-  systemd strace
+  systemd strace nginx haproxy
   gnuplot-nox
   clang libclang-rt-14-dev
   nodejs
