@@ -1,5 +1,5 @@
-/* cmd_meshes.c - `lucent meshes upload FILE | show ID | delete ID`: the daemon's mesh store. show and
- * delete also take the mesh's file, whose sha256 is its id. */
+/* cmd_meshes.c - `lucent meshes upload FILE | show ID | delete ID | list`: the daemon's mesh store. show
+ * and delete also take the mesh's file, whose sha256 is its id. */
 #include <jansson.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -16,11 +16,13 @@ static void meshes_help(void)
     printf("Usage: lucent meshes upload FILE\n"
            "       lucent meshes show ID|FILE\n"
            "       lucent meshes delete ID|FILE\n"
+           "       lucent meshes list\n"
            "\n"
            "upload  sends an OBJ, PLY, STL, glTF (embedded buffers) or GLB file; prints the server's answer\n"
            "        (id = the sha256 of the bytes, triangles, vertices, bounds, bytes) as JSON\n"
            "show    prints a stored mesh's metadata as JSON (exit 1 with 404 when it is not stored)\n"
            "delete  removes a stored mesh\n"
+           "list    prints every stored mesh's metadata as one JSON array, in id order\n"
            "ID is 64 lowercase hex digits; a FILE stands for the id of its bytes.\n");
     print_session_options();
 }
@@ -84,6 +86,37 @@ done:
     return rc;
 }
 
+/* Every page of GET /v1/meshes, following "next", printed as one array. */
+static int list_all(struct http_client *c, lc_error *err)
+{
+    json_t *all = json_array();
+    char route[160] = "/v1/meshes?limit=1000";
+    int rc = LC_OK;
+    for (int more = 1; more && rc == LC_OK;) {
+        struct http_response rs = {0};
+        struct http_request rq = {.method = "GET", .path = route, .accept = "application/json"};
+        rc = http_perform(c, &rq, &rs, err);
+        if (rc == LC_OK && rs.status != 200)
+            rc = server_problem(&rs, err);
+        json_t *doc = rc == LC_OK ? json_loadb(rs.body ? rs.body : "", rs.body_len, 0, NULL) : NULL;
+        json_t *page = json_object_get(doc, "meshes");
+        const char *next = json_string_value(json_object_get(doc, "next"));
+        if (rc == LC_OK && !json_is_array(page))
+            rc = lc_fail(err, LC_E_SERVER, "the server's mesh listing is not the JSON it should be");
+        if (rc == LC_OK)
+            json_array_extend(all, page);
+        more = rc == LC_OK && next && is_id(next);
+        if (more)
+            snprintf(route, sizeof route, "/v1/meshes?limit=1000&after=%s", next);
+        json_decref(doc);
+        http_response_free(&rs);
+    }
+    if (rc == LC_OK)
+        rc = print_json(all, err);
+    json_decref(all);
+    return rc;
+}
+
 int cmd_meshes(struct session *s, int argc, char **argv, lc_error *err)
 {
     struct cli_parser p;
@@ -109,15 +142,20 @@ int cmd_meshes(struct session *s, int argc, char **argv, lc_error *err)
     int upload = args[0] && strcmp(args[0], "upload") == 0;
     int show = args[0] && strcmp(args[0], "show") == 0;
     int del = args[0] && strcmp(args[0], "delete") == 0;
-    if (!upload && !show && !del)
-        return lc_fail(err, LC_E_USAGE, "meshes: expected upload, show or delete%s%s (see lucent meshes --help)",
+    int list = args[0] && strcmp(args[0], "list") == 0;
+    if (!upload && !show && !del && !list)
+        return lc_fail(err, LC_E_USAGE, "meshes: expected upload, show, delete or list%s%s (see lucent meshes --help)",
                        args[0] ? ", got " : "", args[0] ? args[0] : "");
-    if (!args[1])
+    if (list && args[1])
+        return lc_fail(err, LC_E_USAGE, "meshes list: unexpected argument '%s'", args[1]);
+    if (!list && !args[1])
         return lc_fail(err, LC_E_USAGE, "meshes %s: expected %s", args[0], upload ? "FILE" : "ID or FILE");
     rc = session_connect(s, &client, err);
     if (rc != LC_OK)
         return rc;
-    if (upload) {
+    if (list) {
+        rc = list_all(&client, err);
+    } else if (upload) {
         json_t *answer = NULL;
         rc = mesh_upload(&client, args[1], &answer, err);
         if (rc == LC_OK)

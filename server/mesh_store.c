@@ -547,7 +547,8 @@ static int older_use(const void *a, const void *b)
  * process), under the store lock; *used is what remains. */
 static void evict(struct mesh_store *s, struct census_entry *list, size_t count, uint64_t *used, uint64_t needed)
 {
-    qsort(list, count, sizeof *list, older_use);
+    if (count > 1) /* qsort may not be given a null list, which an empty census is */
+        qsort(list, count, sizeof *list, older_use);
     for (size_t k = 0; k < count && *used + needed > s->budget; k++) {
         if (unlink_entry(s, list[k].id) < 0)
             return; /* cannot delete: the put is refused as over budget */
@@ -840,6 +841,57 @@ lucent_status mesh_store_delete(struct mesh_store *s, const char *id, lucent_err
     if (removed < 0)
         return lucent_fail(err, LUCENT_E_IO, "", "cannot delete mesh %s: %s", id, strerror(errno));
     return LUCENT_OK;
+}
+
+/* ---- listing ---- */
+
+static int id_order(const void *a, const void *b)
+{
+    return strcmp(a, b);
+}
+
+lucent_status mesh_store_list(struct mesh_store *s, const char *after, size_t limit, struct mesh_listing **out,
+                              size_t *count, int *more, lucent_error *err)
+{
+    char id[ID_LEN + 1], mac[STORE_MAC_HEX + 1];
+    char(*ids)[ID_LEN + 1] = NULL;
+    size_t n = 0, cap = 0;
+    *out = NULL;
+    *count = 0;
+    *more = 0;
+    DIR *d = opendir(s->dir);
+    if (!d)
+        return store_io_error("cannot list the mesh store", err);
+    lucent_status st = LUCENT_OK;
+    for (struct dirent *e; (e = readdir(d));) {
+        if (!entry_name(e->d_name, "json", id) || (after && strcmp(id, after) <= 0))
+            continue;
+        if (n == cap) {
+            void *grown = realloc(ids, (cap = cap ? 2 * cap : 256) * sizeof *ids);
+            if (!grown) {
+                st = lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory listing the mesh store");
+                break;
+            }
+            ids = grown;
+        }
+        memcpy(ids[n++], id, sizeof id);
+    }
+    closedir(d);
+    struct mesh_listing *page = st == LUCENT_OK ? calloc(limit ? limit : 1, sizeof *page) : NULL;
+    if (st == LUCENT_OK && !page)
+        st = lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory listing the mesh store");
+    if (st == LUCENT_OK) {
+        if (n > 1)
+            qsort(ids, n, sizeof *ids, id_order);
+        size_t k = 0;
+        for (; k < n && *count < limit; k++)
+            if (entry_read(s, ids[k], mac, &page[*count].info))
+                memcpy(page[(*count)++].id, ids[k], ID_LEN + 1);
+        *more = k < n;
+        *out = page;
+    }
+    free(ids);
+    return st;
 }
 
 uint64_t mesh_store_bytes(struct mesh_store *s)

@@ -39,6 +39,19 @@ lucent_status mesh_store_get(struct mesh_store *s, const char *id, struct mesh_i
 /* Removes a mesh; the same errors as mesh_store_get. */
 lucent_status mesh_store_delete(struct mesh_store *s, const char *id, lucent_error *err);
 
+/* One entry of a listing. */
+struct mesh_listing {
+    char id[65];
+    struct mesh_info info;
+};
+
+/* A page of the stored meshes in id order, read from disk (so uploads through every replica sharing the
+ * store are included): up to `limit` entries whose ids sort after `after` (NULL or "": from the first);
+ * *more says whether others follow. Entries whose metadata cannot be read are left out. The caller
+ * frees *out. */
+lucent_status mesh_store_list(struct mesh_store *s, const char *after, size_t limit, struct mesh_listing **out,
+                              size_t *count, int *more, lucent_error *err);
+
 /* Bytes the stored files take (what the budget counts). */
 uint64_t mesh_store_bytes(struct mesh_store *s);
 

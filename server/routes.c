@@ -4,6 +4,7 @@
 
 #include "accept_header.h"
 #include "http_server.h"
+#include "json_text.h"
 #include "image_cache.h"
 #include "connection_guard.h"
 #include "import_jail.h"
@@ -67,7 +68,7 @@ static enum MHD_Result handle_healthz(struct request *req);
 static enum MHD_Result handle_readyz(struct request *req);
 static enum MHD_Result handle_metrics(struct request *req);
 static enum MHD_Result handle_openapi(struct request *req);
-static enum MHD_Result handle_upload(struct request *req);
+static enum MHD_Result handle_meshes(struct request *req);
 static enum MHD_Result handle_mesh(struct request *req);
 static enum MHD_Result handle_static(struct request *req);
 
@@ -78,7 +79,7 @@ static const struct route routes[] = {
     {"readyz", "/readyz", 0, M_GET | M_HEAD, 1, handle_readyz},
     {"metrics", "/metrics", 0, M_GET | M_HEAD, 0, handle_metrics},
     {"openapi", "/openapi.json", 0, M_GET | M_HEAD, 0, handle_openapi},
-    {"meshes", "/v1/meshes", 0, M_POST, 0, handle_upload},
+    {"meshes", "/v1/meshes", 0, M_GET | M_HEAD | M_POST, 0, handle_meshes},
     {"mesh", "/v1/meshes/", 1, M_GET | M_HEAD | M_DELETE, 0, handle_mesh},
     /* Matches every path of static_files[]; open: the page holds no secret and asks for the token itself. */
     {"static", "/", 0, M_GET | M_HEAD, 1, handle_static},
@@ -126,7 +127,7 @@ void route_allow(unsigned methods, char *buf, size_t cap)
 static enum MHD_Result send_json(struct request *req, unsigned status, json_t *doc, const char *extra_name,
                                  const char *extra_value)
 {
-    char *text = doc ? json_dumps(doc, JSON_COMPACT) : NULL;
+    char *text = doc ? json_text(doc) : NULL;
     json_decref(doc);
     if (!text)
         return http_send_problem(req, LUCENT_E_NOMEM, NULL, "out of memory writing the answer");
@@ -489,10 +490,55 @@ static enum MHD_Result handle_openapi(struct request *req)
 
 static json_t *mesh_json(const char *id, const struct mesh_info *info)
 {
-    return json_pack("{s:s, s:I, s:I, s:{s:[f,f,f], s:[f,f,f]}, s:I}", "id", id, "triangles", (json_int_t)info->triangles,
-                     "vertices", (json_int_t)info->vertices, "bounds", "min", info->bounds_min[0], info->bounds_min[1],
-                     info->bounds_min[2], "max", info->bounds_max[0], info->bounds_max[1], info->bounds_max[2], "bytes",
-                     (json_int_t)info->bytes);
+    return json_pack("{s:s, s:I, s:I, s:{s:[f,f,f], s:[f,f,f]}, s:I, s:I}", "id", id, "triangles",
+                     (json_int_t)info->triangles, "vertices", (json_int_t)info->vertices, "bounds", "min",
+                     info->bounds_min[0], info->bounds_min[1], info->bounds_min[2], "max", info->bounds_max[0],
+                     info->bounds_max[1], info->bounds_max[2], "bytes", (json_int_t)info->bytes, "created",
+                     (json_int_t)info->created);
+}
+
+#define LIST_DEFAULT 100
+#define LIST_MAX 1000
+
+/* GET /v1/meshes?after=ID&limit=N: a page of the store in id order, and the link to the next. */
+static enum MHD_Result handle_list(struct request *req)
+{
+    struct query_collect c = {.count = 0};
+    MHD_get_connection_values(req->connection, MHD_GET_ARGUMENT_KIND, collect_query, &c);
+    const char *after = NULL;
+    long limit = LIST_DEFAULT;
+    for (int i = 0; i < c.count; i++) {
+        const char *key = c.fields[i].key, *value = c.fields[i].value ? c.fields[i].value : "";
+        char *end = NULL;
+        if (strcmp(key, "after") == 0 && (mesh_id_valid(value) || !value[0]))
+            after = value;
+        else if (strcmp(key, "after") == 0)
+            return http_send_problem(req, LUCENT_E_INVALID, "after", "after names a mesh id: 64 lowercase hex digits");
+        else if (strcmp(key, "limit") == 0 && ((limit = strtol(value, &end, 10)) < 1 || limit > LIST_MAX || *end ||
+                                               end == value))
+            return http_send_problem(req, LUCENT_E_INVALID, "limit", "limit is a whole number from 1 to %d",
+                                     LIST_MAX);
+        else if (strcmp(key, "after") != 0 && strcmp(key, "limit") != 0)
+            return http_send_problem(req, LUCENT_E_INVALID, query_key_field(key),
+                                     "unknown query field: a listing takes after and limit");
+    }
+    if (c.overflow)
+        return http_send_problem(req, LUCENT_E_INVALID, "", "at most %d query fields", MAX_QUERY_FIELDS);
+    struct mesh_listing *page;
+    size_t count;
+    int more;
+    lucent_error err = {0};
+    if (mesh_store_list(req->srv->store, after, (size_t)limit, &page, &count, &more, &err) != LUCENT_OK)
+        return http_send_error(req, &err);
+    json_t *items = json_array();
+    for (size_t i = 0; i < count; i++)
+        json_array_append_new(items, mesh_json(page[i].id, &page[i].info));
+    char link[160] = "";
+    if (more && count > 0)
+        snprintf(link, sizeof link, "</v1/meshes?after=%s&limit=%ld>; rel=\"next\"", page[count - 1].id, limit);
+    json_t *doc = json_pack("{s:o, s:s?}", "meshes", items, "next", link[0] ? page[count - 1].id : NULL);
+    free(page);
+    return send_json(req, MHD_HTTP_OK, doc, link[0] ? "Link" : NULL, link[0] ? link : NULL);
 }
 
 /* The second call, after the import thread resumed the connection. */
@@ -536,6 +582,11 @@ static enum MHD_Result handle_upload(struct request *req)
     }
     req->upload = job;
     return MHD_YES;
+}
+
+static enum MHD_Result handle_meshes(struct request *req)
+{
+    return req->method_bit == M_POST ? handle_upload(req) : handle_list(req);
 }
 
 static enum MHD_Result handle_mesh(struct request *req)

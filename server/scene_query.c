@@ -192,10 +192,8 @@ static json_t *build(const struct query_field *fields, int count, lucent_error *
                 goto fail;
             }
         if (!m) {
-            /* Named as the client spelt it only when it could be a field name: the field picks the
-             * status (problem.c), and "?Content-Type=1" made a 415. */
             const char *k = fields[i].key;
-            if (*k && strlen(k) <= 40 && strspn(k, "abcdefghijklmnopqrstuvwxyz0123456789_") == strlen(k)) {
+            if (strcmp(query_key_field(k), k) == 0) {
                 lucent_fail(err, LUCENT_E_INVALID, k, "unknown query field (see /openapi.json)");
                 goto fail;
             }
@@ -224,6 +222,12 @@ static json_t *build(const struct query_field *fields, int count, lucent_error *
 fail:
     json_decref(doc);
     return NULL;
+}
+
+const char *query_key_field(const char *key)
+{
+    size_t n = strlen(key);
+    return n && n <= 40 && strspn(key, "abcdefghijklmnopqrstuvwxyz0123456789_") == n ? key : "query";
 }
 
 char *scene_query_document(const struct query_field *fields, int count, lucent_error *err)

@@ -13,6 +13,9 @@ struct query_field {
  * query field (e.g. "sigma_a[1]"). *format_given says whether "format" was among the fields. */
 lucent_status scene_query_parse(const struct query_field *fields, int count, lucent_scene *out, int *format_given,
                                 lucent_error *err);
+/* The field a problem about an unknown query key names: the key when it is spelt like a field name, else
+ * "query" (the field picks the status, problem.c, so "?Content-Type=1" would make a 415). */
+const char *query_key_field(const char *key);
 /* The scene document (malloc'd JSON text) the fields map to; NULL on error (err filled). */
 char *scene_query_document(const struct query_field *fields, int count, lucent_error *err);
 

@@ -81,7 +81,7 @@ second=$(( $(posts "$A_log") - before - first ))
 check "second render of the same file: $second more uploads, GET found it, same image" \
     eval '[ $rc = 0 ] && [ $second = 0 ] && grep -q "is stored as" "$work/err" && cmp -s "$work/bunny1.png" "$work/bunny2.png"'
 
-# meshes upload / show / delete.
+# meshes upload / show / list / delete.
 run meshes upload "$cube"
 check "meshes upload: exit 0, id = sha256 of the file, 12 triangles" python3 -c '
 import json, sys
@@ -91,6 +91,13 @@ run meshes show "$cube_id"
 check "meshes show ID: the metadata" eval '[ $rc = 0 ] && grep -q "\"vertices\"" "$work/out"'
 run meshes show "$cube"
 check "meshes show FILE: the same mesh by its sha256" eval '[ $rc = 0 ] && grep -q "$cube_id" "$work/out"'
+run meshes list
+check "meshes list: a JSON array of the stored meshes, the cube and the bunny among them" python3 -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+ids = [m["id"] for m in d]
+sys.exit(0 if sys.argv[2] in ids and len(ids) >= 2 and ids == sorted(ids) and all("created" in m for m in d) else 1)' \
+    "$work/out" "$cube_id"
 before=$(posts "$A_log")
 run render --mesh "$cube" --preset marble "${fast[@]}" --size 64x64 -o "$work/cube.png"
 check "render of an already uploaded file: no upload" eval '[ $rc = 0 ] && [ $(posts "$A_log") = $before ] && pngs "$work/cube.png:64:64"'

@@ -229,6 +229,44 @@ for spec in "PLY/cube.ply::12" "STL/sphereWithHole.stl:model/stl:285" \
 done
 check "the four uploaded meshes rendered ($codes)" pngs "${uploaded[@]}"
 
+# The listing: every stored mesh with its metadata, in id order, a page at a time (after, limit, next,
+# Link); bad paging fields are 400s naming them.
+python3 - "$A" >"$work/list.txt" <<'EOF2'
+import json, sys, urllib.request, urllib.error
+base, ids, after, pages, links = sys.argv[1], [], None, 0, 0
+while True:
+    url = base + "/v1/meshes?limit=2" + ("&after=" + after if after else "")
+    with urllib.request.urlopen(url) as r:
+        doc, link = json.load(r), r.headers.get("Link")
+    pages += 1
+    ids += [m["id"] for m in doc["meshes"]]
+    assert all({"id", "triangles", "vertices", "bounds", "bytes", "created"} <= set(m) for m in doc["meshes"])
+    after = doc.get("next")
+    links += bool(link and after and ("after=%s&limit=2" % after) in link)
+    if not after:
+        break
+with urllib.request.urlopen(base + "/v1/meshes") as r:
+    whole = [m["id"] for m in json.load(r)["meshes"]]
+print(len(ids), pages, links, int(ids == sorted(ids) == whole and len(set(ids)) == len(ids)))
+EOF2
+read -r listed pages links ordered <"$work/list.txt"
+stored=$(ls "$store"/*.json 2>/dev/null | wc -l)
+check "GET /v1/meshes: $listed meshes in $pages pages of 2 ($links Link headers), in id order, the same as one page; $stored stored" \
+    [ "$listed" = "$stored" -a "$ordered" = 1 -a "$links" = $((pages - 1)) -a "$listed" -ge 5 ]
+c1=$(req "$work/e1" GET "$A/v1/meshes?limit=0")
+c2=$(req "$work/e2" GET "$A/v1/meshes?after=xyz")
+c3=$(req "$work/e3" GET "$A/v1/meshes?page=2")
+check "listing: limit=0 $c1 (limit), after=xyz $c2 (after), page=2 $c3 (page)" \
+    eval 'problem "$work/e1" 400 limit && problem "$work/e2" 400 after && problem "$work/e3" 400 page'
+# Numbers are the shortest text that reads back to the same double (0.003, not 0.0030000000000000001).
+check "materials: every number as short as it reads back ($(grep -o '"sigma_a":\[[^]]*\]' "$work/m" | head -1))" python3 -c '
+import re, sys
+text = open(sys.argv[1]).read()
+digits = lambda t: re.sub(r"^0+|0+$", "", re.sub(r"[eE].*$|[-.]", "", t))
+bad = [t for t in re.findall(r"-?\d+\.\d+(?:[eE][-+]?\d+)?", text) if len(digits(t)) > len(digits(repr(float(t))))]
+print("   longer than needed:", bad[:5])
+sys.exit(1 if bad else 0)' "$work/m"
+
 # 32 parallel renders of 32 different scenes: all 200, all valid, each its own size.
 t0=$(date +%s%N)
 curls=()
