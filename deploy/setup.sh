@@ -21,7 +21,7 @@ packages=(
   curl python3 wrk
   libssl-dev
   libseccomp-dev
-  systemd strace nginx haproxy
+  systemd strace nginx haproxy mmdebstrap
   gnuplot-nox
   clang libclang-rt-14-dev
   nodejs
