@@ -2,8 +2,9 @@
 # test_deploy_proxy.sh - three lucentd replicas on one shared store behind nginx on 127.0.0.1, with
 # deploy/nginx/lucent.conf (its upstream ports and listen port rewritten to free ones): affinity of GET
 # renders by URI, a mesh uploaded through the proxy rendered by every replica, failover after kill -9,
-# and a replica drained with SIGTERM under load without a client seeing an error. HAProxy's
-# configuration (deploy/haproxy/lucent.cfg) is checked with `haproxy -c`. Usage: test_deploy_proxy.sh LUCENTD
+# and a replica drained with SIGTERM under load without a client seeing an error; and HAProxy with
+# deploy/haproxy/lucent.cfg in front of the same replicas: renders by URI, and its /readyz checks taking
+# the killed and the drained replica out. Usage: test_deploy_proxy.sh LUCENTD
 set -u
 lucentd=$1
 source "$(dirname "$0")/lucentd_harness.sh"
@@ -55,6 +56,35 @@ for i in $(seq 1 30); do
 done
 check "a mesh uploaded through the proxy ($c) renders on ${#seen[@]} replicas, $fails of 30 renders failed" \
     [ "$c" = 201 -a "${#seen[@]}" = 3 -a "$fails" = 0 ]
+
+# ---- HAProxy with deploy/haproxy/lucent.cfg (its ports rewritten) in front of the same replicas: renders
+# by URI, each URL on one server; after the failover and the drain below, its /readyz checks have taken
+# the two replicas out and every URL is still answered ----
+out=$(haproxy -c -f "$deploy/haproxy/lucent.cfg" 2>&1); rc=$?
+check "haproxy -c accepts deploy/haproxy/lucent.cfg ($rc): $(echo "$out" | tail -1)" [ "$rc" = 0 ]
+hport=$(free_port)
+sed -e "s/127\.0\.0\.1:8081/127.0.0.1:${ports[0]}/; s/127\.0\.0\.1:8082/127.0.0.1:${ports[1]}/" \
+    -e "s/127\.0\.0\.1:8083/127.0.0.1:${ports[2]}/; s/bind 127\.0\.0\.1:8080/bind 127.0.0.1:$hport/" \
+    "$deploy/haproxy/lucent.cfg" >"$work/haproxy.cfg"
+haproxy -db -f "$work/haproxy.cfg" 2>"$work/haproxy.log" &
+hapid=$!
+pids+=("$hapid")
+H=http://127.0.0.1:$hport
+for _ in $(seq 1 100); do [[ $(curl -s -o /dev/null -w '%{http_code}' "$H/healthz") == 200 ]] && break; sleep 0.1; done
+sleep 2.5 # two good checks (rise 2, inter 1 s) before a server takes requests
+declare -A hhome
+bad=0 moved=0
+for i in $(seq 1 30); do
+    for k in 1 2; do
+        c=$(req "$work/h.png" GET "$H/v1/render?w=24&h=24&exposure=$i")
+        u=$(header "$work/h.png" Lucent-Upstream)
+        [[ $c == 200 ]] || bad=$((bad + 1))
+        if [[ $k == 1 ]]; then hhome[$i]=$u; elif [[ $u != "${hhome[$i]}" ]]; then moved=$((moved + 1)); fi
+    done
+done
+hshares=$(for i in "${!hhome[@]}"; do echo "${hhome[$i]}"; done | sort | uniq -c | awk '{print $2 "=" $1}' | tr '\n' ' ')
+check "HAProxy: 60 requests ($bad failed), repeats on another server $moved, URLs per server: $hshares" \
+    bash -c "[ $bad = 0 -a $moved = 0 ] && [ \$(echo $hshares | wc -w) -ge 2 ]"
 
 # ---- failover: kill -9 one replica; every request still answered, the others keep their URLs ----
 victim=127.0.0.1:${ports[2]}
@@ -115,11 +145,16 @@ wait "$drainee"; rc=$?
 codes=$(tr ' ' '\n' <"$work/load.txt" | sort | uniq -c | tr -s ' ' | tr '\n' ';')
 check "drain: /readyz $ready ${ms} ms after SIGTERM; the replica exited $rc; clients under load saw:$codes" \
     bash -c "[ '$ready' = 503 ] && [ $rc = 0 ] && ! tr ' ' '\n' <'$work/load.txt' | grep -qv '^200\$'"
+bad=0
+for i in $(seq 1 30); do
+    c=$(req "$work/h.png" GET "$H/v1/render?w=24&h=24&exposure=$i")
+    [[ $c == 200 ]] || bad=$((bad + 1))
+done
+down=$(grep -o 'Server lucent_[a-z_]*/r[0-9] is DOWN' "$work/haproxy.log" | sort -u | wc -l)
+check "HAProxy after the kill and the drain: its checks took $down server entries down (2 replicas x 2 backends); $bad of 30 URLs failed" \
+    [ "$bad" = 0 -a "$down" = 4 ]
+kill -TERM "$hapid"
 for p in "${rpids[0]}"; do stop "$p" >/dev/null; done
-
-# ---- HAProxy's configuration, checked by haproxy itself ----
-out=$(haproxy -c -f "$deploy/haproxy/lucent.cfg" 2>&1); rc=$?
-check "haproxy -c accepts deploy/haproxy/lucent.cfg ($rc): $(echo "$out" | tail -1)" [ "$rc" = 0 ]
 
 echo "$passed passed, $failed failed"
 [[ $failed == 0 ]]
