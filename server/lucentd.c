@@ -60,6 +60,8 @@ static void tick(void)
  * worker is stuck in the driver, so a manager with WatchdogSec restarts a daemon that cannot render. */
 static void notify_tick(struct server *srv, struct service_notify *n, double now, double *last_status)
 {
+    if (n->fd < 0) /* no service manager: nothing to tell, nothing to ask the queue */
+        return;
     int in_flight = 0, depth = render_queue_depth(srv->queue, &in_flight);
     double overdue = render_queue_overdue_seconds(srv->queue, now);
     int stuck = overdue > STUCK_SECONDS;

@@ -505,6 +505,8 @@ static enum MHD_Result handle_list(struct request *req)
 {
     struct query_collect c = {.count = 0};
     MHD_get_connection_values(req->connection, MHD_GET_ARGUMENT_KIND, collect_query, &c);
+    if (c.overflow)
+        return http_send_problem(req, LUCENT_E_INVALID, "", "at most %d query fields", MAX_QUERY_FIELDS);
     const char *after = NULL;
     long limit = LIST_DEFAULT;
     for (int i = 0; i < c.count; i++) {
@@ -522,8 +524,6 @@ static enum MHD_Result handle_list(struct request *req)
             return http_send_problem(req, LUCENT_E_INVALID, query_key_field(key),
                                      "unknown query field: a listing takes after and limit");
     }
-    if (c.overflow)
-        return http_send_problem(req, LUCENT_E_INVALID, "", "at most %d query fields", MAX_QUERY_FIELDS);
     struct mesh_listing *page;
     size_t count;
     int more;

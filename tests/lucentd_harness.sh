@@ -1,6 +1,6 @@
 # lucentd_harness.sh - shared by the shell tests that talk to a real lucentd (test_lucentd.sh, test_client.sh):
-# ok/bad/check bookkeeping, starting a daemon on a free loopback port, and decoding PNGs. Sourced; the
-# caller sets $lucentd (the binary). $work is a temp dir and $pids the daemons, both gone at exit.
+# ok/bad/check bookkeeping, free ports, starting a daemon on a free loopback port, and decoding PNGs.
+# Sourced; the caller sets $lucentd (the binary). $work is a temp dir and $pids the daemons, both gone at exit.
 passed=0
 failed=0
 harness_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -13,6 +13,7 @@ cleanup() {
 trap cleanup EXIT
 
 ok() { passed=$((passed + 1)); echo "ok   $1"; }
+free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
 bad() { failed=$((failed + 1)); echo "FAIL $1"; }
 # check NAME COMMAND...: passes when the command succeeds.
 check() { local name=$1; shift; if "$@"; then ok "$name"; else bad "$name"; fi; }

@@ -3,14 +3,17 @@
 # start_proxy PORT1 PORT2 PORT3: rewrites the config's three upstream ports and its listen port (a free
 # one), starts nginx, waits until it answers; sets $P (its base URL). stop_proxy stops it.
 
-free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+# to_replicas FILE PORT1 PORT2 PORT3: FILE with the deploy files' upstream addresses 127.0.0.1:8081-8083
+# pointed at the three ports.
+to_replicas() {
+    sed -e "s/127\.0\.0\.1:8081/127.0.0.1:$2/; s/127\.0\.0\.1:8082/127.0.0.1:$3/; s/127\.0\.0\.1:8083/127.0.0.1:$4/" "$1"
+}
 
 start_proxy() {
     local proxy_port
     proxy_port=$(free_port)
-    sed -e "s/127\.0\.0\.1:8081/127.0.0.1:$1/; s/127\.0\.0\.1:8082/127.0.0.1:$2/" \
-        -e "s/127\.0\.0\.1:8083/127.0.0.1:$3/; s/listen 8080;/listen 127.0.0.1:$proxy_port;/" \
-        "$harness_dir/../deploy/nginx/lucent.conf" >"$work/lucent.conf"
+    to_replicas "$harness_dir/../deploy/nginx/lucent.conf" "$@" |
+        sed "s/listen 8080;/listen 127.0.0.1:$proxy_port;/" >"$work/lucent.conf"
     cat >"$work/nginx.conf" <<EOC
 $( [[ $(id -u) == 0 ]] && echo "user root;" )
 worker_processes 2;

@@ -52,7 +52,7 @@ fi
 # arguments, but on 127.0.0.1 and a free port (the network is the host's here).
 mkdir -p "$volume"
 chown 10001:10001 "$volume"
-port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+port=$(free_port)
 cat >"$work/container.sh" <<EOC
 #!/bin/sh
 set -e

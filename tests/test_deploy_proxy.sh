@@ -63,9 +63,8 @@ check "a mesh uploaded through the proxy ($c) renders on ${#seen[@]} replicas, $
 out=$(haproxy -c -f "$deploy/haproxy/lucent.cfg" 2>&1); rc=$?
 check "haproxy -c accepts deploy/haproxy/lucent.cfg ($rc): $(echo "$out" | tail -1)" [ "$rc" = 0 ]
 hport=$(free_port)
-sed -e "s/127\.0\.0\.1:8081/127.0.0.1:${ports[0]}/; s/127\.0\.0\.1:8082/127.0.0.1:${ports[1]}/" \
-    -e "s/127\.0\.0\.1:8083/127.0.0.1:${ports[2]}/; s/bind 127\.0\.0\.1:8080/bind 127.0.0.1:$hport/" \
-    "$deploy/haproxy/lucent.cfg" >"$work/haproxy.cfg"
+to_replicas "$deploy/haproxy/lucent.cfg" "${ports[@]}" | sed "s/bind 127\.0\.0\.1:8080/bind 127.0.0.1:$hport/" \
+    >"$work/haproxy.cfg"
 haproxy -db -f "$work/haproxy.cfg" 2>"$work/haproxy.log" &
 hapid=$!
 pids+=("$hapid")
