@@ -227,6 +227,17 @@ lucent_status lucent_mesh_import_file(const char *path, lucent_mesh **out, lucen
 /* ext_hint is the format's file extension ("obj", "ply", "stl", "gltf", "glb"). */
 lucent_status lucent_mesh_import_memory(const void *data, size_t len, const char *ext_hint,
                                         lucent_mesh **out, lucent_error *err);
+/* One file of a multi-file mesh: name is a relative path, '/'-separated, with no empty, "." or ".."
+ * segment (the form a reference is resolved to). */
+typedef struct lucent_mesh_file {
+    const char *name;
+    const void *data;
+    size_t len;
+} lucent_mesh_file;
+/* Imports files[main] (format ext_hint) and serves the files it refers to (glTF buffers, an OBJ's
+ * material library), resolved against its folder, from `files` only: nothing is read from disk. */
+lucent_status lucent_mesh_import_files(const lucent_mesh_file *files, size_t count, size_t main,
+                                       const char *ext_hint, lucent_mesh **out, lucent_error *err);
 uint32_t lucent_mesh_triangle_count(const lucent_mesh *mesh);
 void lucent_mesh_free(lucent_mesh *mesh);
 

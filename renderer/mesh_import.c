@@ -266,18 +266,20 @@ static lucent_status check_bytes(const mesh_format *format, const unsigned char 
     return LUCENT_OK;
 }
 
-/* ---- a file system holding nothing but the caller's bytes ---- */
+/* ---- a file system holding nothing but the caller's files ---- */
+
+#define MISSING_NAME_MAX 96
 
 typedef struct memory_volume {
-    const unsigned char *data;
-    size_t len;
-    char name[16];         /* the one name that opens: "$$mem$$.<ext>" */
-    unsigned refused_opens; /* attempts to reach other files (mtllib, glTF buffer uris, ...) */
+    const lucent_mesh_file *files;
+    size_t count;
+    unsigned refused_opens;           /* attempts to reach files the caller did not give, or to write */
+    char missing[MISSING_NAME_MAX];   /* the first such name (printable ASCII, cut short) */
 } memory_volume;
 
 typedef struct memory_file {
     struct aiFile file; /* first member, so the aiFile pointer assimp passes back is this struct */
-    const memory_volume *volume;
+    const lucent_mesh_file *source;
     size_t pos;
 } memory_file;
 
@@ -286,10 +288,10 @@ static size_t file_read(struct aiFile *file, char *buffer, size_t size, size_t c
     memory_file *f = (memory_file *)file;
     if (size == 0)
         return 0;
-    size_t whole = (f->volume->len - f->pos) / size;
+    size_t whole = (f->source->len - f->pos) / size;
     if (count > whole)
         count = whole;
-    memcpy(buffer, f->volume->data + f->pos, count * size);
+    memcpy(buffer, (const unsigned char *)f->source->data + f->pos, count * size);
     f->pos += count * size;
     return count;
 }
@@ -307,7 +309,7 @@ static size_t file_tell(struct aiFile *file)
 
 static size_t file_size(struct aiFile *file)
 {
-    return ((memory_file *)file)->volume->len;
+    return ((memory_file *)file)->source->len;
 }
 
 static void file_flush(struct aiFile *file)
@@ -324,20 +326,75 @@ static enum aiReturn file_seek(struct aiFile *file, size_t offset, enum aiOrigin
     switch (origin) {
     case aiOrigin_SET: target = offset; break;
     case aiOrigin_CUR: target = f->pos + offset; break;
-    case aiOrigin_END: target = f->volume->len + offset; break;
+    case aiOrigin_END: target = f->source->len + offset; break;
     default: return aiReturn_FAILURE;
     }
-    if (target > f->volume->len)
+    if (target > f->source->len)
         return aiReturn_FAILURE;
     f->pos = target;
     return aiReturn_SUCCESS;
 }
 
+/* The path `name` (assimp joins the main file's folder and the reference) with "." and ".." segments
+ * resolved and backslashes read as slashes; 0 if it climbs above the root or does not fit. */
+static int normalize_path(const char *name, char *out, size_t cap)
+{
+    size_t n = 0;
+    for (const char *p = name; *p;) {
+        while (*p == '/' || *p == '\\')
+            p++;
+        const char *seg = p;
+        while (*p && *p != '/' && *p != '\\')
+            p++;
+        size_t len = (size_t)(p - seg);
+        if (len == 0 || (len == 1 && seg[0] == '.'))
+            continue;
+        if (len == 2 && seg[0] == '.' && seg[1] == '.') {
+            if (n == 0)
+                return 0;
+            while (n > 0 && out[n - 1] != '/')
+                n--;
+            n -= n > 0; /* the slash before the dropped segment */
+            continue;
+        }
+        if (n + (n > 0) + len + 1 > cap)
+            return 0;
+        if (n > 0)
+            out[n++] = '/';
+        memcpy(out + n, seg, len);
+        n += len;
+    }
+    out[n] = '\0';
+    return n > 0;
+}
+
+static const lucent_mesh_file *volume_find(const memory_volume *volume, const char *name)
+{
+    char path[1024];
+    if (!normalize_path(name, path, sizeof path))
+        return NULL;
+    for (size_t i = 0; i < volume->count; i++)
+        if (strcmp(volume->files[i].name, path) == 0)
+            return &volume->files[i];
+    return NULL;
+}
+
+static void note_refused(memory_volume *volume, const char *name)
+{
+    if (volume->refused_opens++ > 0)
+        return;
+    size_t n = 0;
+    for (const char *c = name; *c && n + 1 < sizeof volume->missing; c++)
+        volume->missing[n++] = *c >= 0x20 && *c < 0x7f && *c != '"' && *c != '\\' ? *c : '?';
+    volume->missing[n] = '\0';
+}
+
 static struct aiFile *volume_open(struct aiFileIO *io, const char *name, const char *mode)
 {
     memory_volume *volume = (memory_volume *)(void *)io->UserData;
-    if (strcmp(name, volume->name) != 0 || strpbrk(mode, "wa+")) {
-        volume->refused_opens++;
+    const lucent_mesh_file *source = strpbrk(mode, "wa+") ? NULL : volume_find(volume, name);
+    if (!source) {
+        note_refused(volume, name);
         return NULL;
     }
     memory_file *f = calloc(1, sizeof *f);
@@ -349,7 +406,7 @@ static struct aiFile *volume_open(struct aiFileIO *io, const char *name, const c
     f->file.FileSizeProc = file_size;
     f->file.SeekProc = file_seek;
     f->file.FlushProc = file_flush;
-    f->volume = volume;
+    f->source = source;
     return &f->file;
 }
 
@@ -614,8 +671,28 @@ done:
 
 /* ---- public entry points ---- */
 
-lucent_status lucent_mesh_import_memory(const void *data, size_t len, const char *ext_hint,
-                                        lucent_mesh **out, lucent_error *err)
+/* Checked before assimp runs: the main file's bytes, the names (relative and confined, see lucent.h),
+ * and the total size. */
+static lucent_status check_files(const lucent_mesh_file *files, size_t count, size_t main,
+                                 const mesh_format *format, lucent_error *err)
+{
+    size_t total = 0;
+    for (size_t i = 0; i < count; i++) {
+        char path[1024];
+        if (!files[i].name || !normalize_path(files[i].name, path, sizeof path) ||
+            strcmp(path, files[i].name) != 0)
+            return lucent_fail(err, LUCENT_E_INVALID, "mesh.file",
+                               "file %zu's name is not a relative path without \".\" or \"..\"", i);
+        if (files[i].len > MAX_MESH_BYTES - total)
+            return lucent_fail(err, LUCENT_E_LIMIT, "mesh.file",
+                               "the files are more than " MAX_MESH_BYTES_TEXT " together");
+        total += files[i].len;
+    }
+    return check_bytes(format, files[main].data, files[main].len, err);
+}
+
+lucent_status lucent_mesh_import_files(const lucent_mesh_file *files, size_t count, size_t main,
+                                       const char *ext_hint, lucent_mesh **out, lucent_error *err)
 {
     *out = NULL;
     const mesh_format *format = find_format(ext_hint);
@@ -623,21 +700,27 @@ lucent_status lucent_mesh_import_memory(const void *data, size_t len, const char
         return lucent_fail(err, LUCENT_E_INVALID, "mesh.file",
                            "unsupported mesh format \"%.16s\"; supported: " SUPPORTED_EXTENSIONS,
                            ext_hint ? ext_hint : "");
-    lucent_status st = check_bytes(format, data, len, err);
+    if (main >= count)
+        return lucent_fail(err, LUCENT_E_INVALID, "mesh.file", "the main file is not among the files");
+    lucent_status st = check_files(files, count, main, format, err);
     if (st != LUCENT_OK)
         return st;
 
-    memory_volume volume = {data, len, "", 0};
-    snprintf(volume.name, sizeof volume.name, "$$mem$$.%s", format->ext);
+    memory_volume volume = {files, count, 0, ""};
     /* assimp keeps a pointer to io until the scene is released, so both live in this frame */
     struct aiFileIO io = {volume_open, volume_close, (aiUserData)(void *)&volume};
-    const struct aiScene *scene = import_scene(&io, volume.name, format->label);
+    const struct aiScene *scene = import_scene(&io, files[main].name, format->label);
     if (!scene) {
+        if (volume.refused_opens > 0 && count == 1)
+            return lucent_fail(err, LUCENT_E_MESH, "mesh.file",
+                               "could not read the %s data: it refers to other files (\"%s\": buffers, "
+                               "images or material libraries), which are never opened; embed them (for "
+                               "glTF, use .glb or data: URIs) or send them in the same upload",
+                               format->label, volume.missing);
         if (volume.refused_opens > 0)
             return lucent_fail(err, LUCENT_E_MESH, "mesh.file",
-                               "could not read the %s data: it refers to other files (buffers, "
-                               "images or material libraries), which are never opened; embed "
-                               "them (for glTF, use .glb or data: URIs)", format->label);
+                               "could not read the %s data: it refers to \"%s\", which is not among the "
+                               "files sent", format->label, volume.missing);
         return lucent_fail(err, LUCENT_E_MESH, "mesh.file",
                            "could not read the %s data: it is malformed or uses a feature Lucent "
                            "does not support", format->label);
@@ -645,6 +728,15 @@ lucent_status lucent_mesh_import_memory(const void *data, size_t len, const char
     st = scene_to_mesh(scene, out, err);
     aiReleaseImport(scene);
     return st;
+}
+
+lucent_status lucent_mesh_import_memory(const void *data, size_t len, const char *ext_hint,
+                                        lucent_mesh **out, lucent_error *err)
+{
+    char name[16];
+    snprintf(name, sizeof name, "$$mem$$.%.6s", ext_hint ? ext_hint : "");
+    lucent_mesh_file file = {name, data, len};
+    return lucent_mesh_import_files(&file, 1, 0, ext_hint, out, err);
 }
 
 static const char *path_extension(const char *path)

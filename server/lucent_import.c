@@ -2,6 +2,7 @@
  * fd 3. It runs assimp on hostile bytes: the daemon starts it limited, and it seals itself in seccomp. */
 #include "importer_seccomp.h"
 #include "lucent.h"
+#include "mesh_bundle.h"
 #include "mesh.h"
 #include "mesh_compact.h"
 
@@ -12,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define USAGE "usage: lucent-import --format obj|ply|stl|gltf|glb [--max-triangles N] < MESH 3> OUT.lmesh"
+#define USAGE "usage: lucent-import --format obj|ply|stl|gltf|glb|bundle [--max-triangles N] < MESH 3> OUT.lmesh"
 #define OUT_FD 3
 #define EXIT_REFUSED 2
 
@@ -105,6 +106,14 @@ static lucent_status seal(FILE **out, lucent_error *err)
     return importer_seccomp_enter(err);
 }
 
+/* A bundle is decoded and checked again here (mesh_bundle_import): the daemon's encoding is not trusted. */
+static lucent_status import_upload(const unsigned char *data, size_t len, const char *format, lucent_mesh **m,
+                                   lucent_error *err)
+{
+    return strcmp(format, "bundle") == 0 ? mesh_bundle_import(data, len, m, err)
+                                         : lucent_mesh_import_memory(data, len, format, m, err);
+}
+
 /* Prints the success line; bounds are put back into the upload's coordinates. */
 static lucent_status report(const struct lucent_mesh *m, lucent_error *err)
 {
@@ -131,7 +140,7 @@ int main(int argc, char **argv)
     if (parse_args(argc, argv, &o, &err) != LUCENT_OK || seal(&out, &err) != LUCENT_OK ||
         read_stdin(&data, &len, &err) != LUCENT_OK)
         return refuse(&err);
-    lucent_status st = lucent_mesh_import_memory(data, len, o.format, &m, &err);
+    lucent_status st = import_upload(data, len, o.format, &m, &err);
     free(data);
     if (st == LUCENT_OK && m->triangle_count > o.max_triangles)
         st = lucent_fail(&err, LUCENT_E_LIMIT, "mesh", "the mesh has %u triangles; at most %lu are accepted",

@@ -1,6 +1,7 @@
 /* fuzz_import.c - libFuzzer target: hostile mesh bytes through the importer in-process (format pre-checks,
  * assimp from memory, the validation of its output), as lucent-import runs it; a mesh it returns must be sound. */
 #include "mesh.h"
+#include "mesh_bundle.h"
 #include "mesh_compact.h"
 
 #include <float.h>
@@ -18,9 +19,10 @@
  * descriptors and core dumps do not apply (nothing is written or opened here). */
 #define MAX_TRIANGLES 2000000u
 
-/* The first byte picks the format, the rest is the file. '0'..'4' (any byte, modulo 10): as is;
+/* The first byte picks the format, the rest is the file. '0'..'4' (any byte, modulo 11): as is;
  * '5'..'9': the same formats with the binary ones' size fields made to match the input's size (as the
- * lmesh target fixes its checksum), which a mutation that changes the length would otherwise break. */
+ * lmesh target fixes its checksum), which a mutation that changes the length would otherwise break;
+ * ':': a multi-file upload's bundle (server/mesh_bundle.h), as lucent-import --format bundle reads it. */
 static const char *const FORMATS[] = {"obj", "ply", "stl", "gltf", "glb"};
 
 static void put_le32(uint8_t *p, uint32_t v)
@@ -111,14 +113,15 @@ static void check_round_trip(const struct lucent_mesh *m)
 }
 
 /* A refusal names a status the daemon maps to 4xx/413/503 and a message of Lucent's own words:
- * assimp's error text (which can quote the file) goes only to the log. */
-static void check_refusal(lucent_status st, const lucent_error *err)
+ * assimp's error text (which can quote the file) goes only to the log. A bundle's refusals may also be
+ * LUCENT_E_INVALID and quote its file names, which are checked UTF-8 without control characters. */
+static void check_refusal(lucent_status st, const lucent_error *err, int bundle)
 {
-    if (st != err->status || (st != LUCENT_E_MESH && st != LUCENT_E_LIMIT && st != LUCENT_E_NOMEM) ||
-        !err->message[0])
+    if (st != err->status || !err->message[0] ||
+        (st != LUCENT_E_MESH && st != LUCENT_E_LIMIT && st != LUCENT_E_NOMEM && !(bundle && st == LUCENT_E_INVALID)))
         abort();
     for (const char *c = err->message; *c; c++)
-        if ((unsigned char)*c < 0x20 || (unsigned char)*c > 0x7e)
+        if ((unsigned char)*c < 0x20 || (unsigned char)*c == 0x7f || (!bundle && (unsigned char)*c > 0x7e))
             abort();
 }
 
@@ -126,7 +129,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     if (size == 0)
         return 0;
-    unsigned pick = (uint8_t)(data[0] - '0') % 10;
+    unsigned pick = (uint8_t)(data[0] - '0') % 11;
     const char *ext = FORMATS[pick % 5];
     size_t len = size - 1;
     /* a copy of exactly len bytes, so that AddressSanitizer sees any read past the end */
@@ -134,11 +137,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (!copy)
         return 0;
     memcpy(copy, data + 1, len);
-    if (pick >= 5)
+    if (pick >= 5 && pick < 10)
         len = fix_sizes(ext, copy, len);
     struct lucent_mesh *m = NULL;
     lucent_error err = {0};
-    lucent_status st = lucent_mesh_import_memory(copy, len, ext, &m, &err);
+    lucent_status st = pick == 10 ? mesh_bundle_import(copy, len, &m, &err)
+                                  : lucent_mesh_import_memory(copy, len, ext, &m, &err);
     if (st == LUCENT_OK) {
         check_mesh(m);
         /* lucent_import.c refuses a larger mesh (LUCENT_E_LIMIT) and writes the others */
@@ -148,7 +152,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     } else {
         if (m)
             abort(); /* *out is set only on success */
-        check_refusal(st, &err);
+        check_refusal(st, &err, pick == 10);
     }
     free(copy);
     return 0;
