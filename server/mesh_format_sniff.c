@@ -104,3 +104,19 @@ const char *mesh_format_sniff(const char *content_type, const void *bytes, size_
         return sniffed;
     return !sniffed || strcmp(sniffed, declared) == 0 ? declared : NULL;
 }
+
+const char *mesh_upload_format(const char *content_type, const void *bytes, size_t len, lucent_error *err)
+{
+    const char *ext = mesh_format_sniff(content_type, bytes, len);
+    const char *declared = mesh_format_of_type(content_type), *sniffed = mesh_format_of_bytes(bytes, len);
+    if (!ext && declared && sniffed)
+        lucent_fail(err, LUCENT_E_INVALID, "Content-Type",
+                    "the Content-Type says %s but the bytes are %s: send the type of the file, or "
+                    "application/octet-stream to have it recognized", declared, sniffed);
+    else if (!ext)
+        lucent_fail(err, LUCENT_E_INVALID, "Content-Type",
+                    "not a mesh format Lucent reads: send OBJ, PLY, STL, glTF or GLB (Content-Type model/obj, "
+                    "model/ply, model/stl, model/gltf+json, model/gltf-binary, or application/octet-stream to "
+                    "have it recognized), or a glTF with the files it names as multipart/form-data");
+    return ext;
+}

@@ -319,7 +319,7 @@ static lucent_status interpret(int status, const transcript *t, const char *ext,
 
 static int known_ext(const char *ext)
 {
-    static const char *const exts[] = {"obj", "ply", "stl", "gltf", "glb"};
+    static const char *const exts[] = {"obj", "ply", "stl", "gltf", "glb", "bundle"};
     for (size_t i = 0; ext && i < sizeof exts / sizeof exts[0]; i++)
         if (strcmp(ext, exts[i]) == 0)
             return 1;

@@ -27,13 +27,14 @@ struct mesh_info {
 
 struct import_jail;
 
-/* Runs lucent-import in the jail (import_jail.h) as `lucent-import --format EXT --max-triangles N`,
+/* Runs lucent-import in the jail (import_jail.h) as `lucent-import --format EXT --max-triangles N`
+ * (EXT: obj, ply, stl, gltf, glb, or bundle for mesh_bundle.h's encoding of several files),
  * the bytes on its standard input, mesh_fd (a regular file, empty, open for reading and writing) as
  * its fd 3, under the limits. Its answer is not trusted: the daemon reads the mesh back from mesh_fd
  * and it must be sound and match the answer; info is then filled. A crash, a timeout, exceeding the
  * CPU limit, a sandbox violation (counted, and logged) or unsound output fail with LUCENT_E_MESH; the
  * importer's own refusals keep their status and message (out of memory becomes LUCENT_E_LIMIT); all
- * of these name the field "mesh", the upload as a whole. An ext other than the five is
+ * of these name the field "mesh", the upload as a whole. An ext other than the six is
  * LUCENT_E_INVALID ("Content-Type"); failing to run the importer is LUCENT_E_INTERNAL. */
 lucent_status mesh_import_isolated(const struct import_jail *jail, const struct import_limits *lim,
                                    const void *bytes, size_t len, const char *ext, int mesh_fd,
@@ -55,5 +56,7 @@ const char *mesh_format_sniff(const char *content_type, const void *bytes, size_
  * (NULL: none recognized); mesh_format_sniff combines them. */
 const char *mesh_format_of_type(const char *content_type);
 const char *mesh_format_of_bytes(const void *bytes, size_t len);
+/* mesh_format_sniff, or NULL with the reason in err (field "Content-Type"). */
+const char *mesh_upload_format(const char *content_type, const void *bytes, size_t len, lucent_error *err);
 
 #endif

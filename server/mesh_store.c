@@ -631,7 +631,7 @@ static int importing_slot(const struct mesh_store *s, const char *id)
     return -1;
 }
 
-lucent_status mesh_store_put(struct mesh_store *s, const void *bytes, size_t len, const char *content_type,
+lucent_status mesh_store_put(struct mesh_store *s, const void *bytes, size_t len, const char *format,
                              char id_out[65], struct mesh_info *info, int *created, lucent_error *err)
 {
     char tmp_mesh[PATH_MAX] = "", tmp_meta[PATH_MAX] = "";
@@ -640,17 +640,6 @@ lucent_status mesh_store_put(struct mesh_store *s, const void *bytes, size_t len
     char mac[STORE_MAC_HEX + 1];
     lucent_status st;
     *created = 0;
-    const char *ext = mesh_format_sniff(content_type, bytes, len);
-    const char *declared = mesh_format_of_type(content_type), *sniffed = mesh_format_of_bytes(bytes, len);
-    if (!ext && declared && sniffed)
-        return lucent_fail(err, LUCENT_E_INVALID, "Content-Type",
-                           "the Content-Type says %s but the bytes are %s: send the type of the file, or "
-                           "application/octet-stream to have it recognized", declared, sniffed);
-    if (!ext)
-        return lucent_fail(err, LUCENT_E_INVALID, "Content-Type",
-                           "not a mesh format Lucent reads: send OBJ, PLY, STL, glTF with embedded buffers or "
-                           "GLB (Content-Type model/obj, model/ply, model/stl, model/gltf+json, "
-                           "model/gltf-binary, or application/octet-stream to have it recognized)");
     if ((st = sha256_hex(bytes, len, id_out, err)) != LUCENT_OK)
         return st;
     char stored_mac[STORE_MAC_HEX + 1];
@@ -679,7 +668,7 @@ lucent_status mesh_store_put(struct mesh_store *s, const void *bytes, size_t len
 
     /* importing takes seconds: the lock is not held, so gets and other puts go on meanwhile */
     if ((st = make_temp(s, tmp_mesh, &fd, err)) != LUCENT_OK ||
-        (st = mesh_import_isolated(s->jail, &s->lim, bytes, len, ext, fd, info, err)) != LUCENT_OK ||
+        (st = mesh_import_isolated(s->jail, &s->lim, bytes, len, format, fd, info, err)) != LUCENT_OK ||
         (st = sync_file(fd, &mesh_bytes, err)) != LUCENT_OK ||
         (st = store_mac_of_file(s->key, id_out, fd, mac, err)) != LUCENT_OK)
         goto done;

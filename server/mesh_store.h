@@ -20,13 +20,14 @@ lucent_status mesh_store_open(const char *dir, uint64_t byte_budget, const char 
                               struct mesh_store **out, lucent_error *err);
 void mesh_store_close(struct mesh_store *s);
 
-/* Imports the upload in isolation and stores it under id_out. Idempotent: when the id exists,
- * nothing is imported or written, *created = 0 and info is the stored one. When it does not fit the
- * byte budget, the least recently used meshes (by put or get; after a restart, by creation) are
- * evicted until it does. Unknown formats fail with LUCENT_E_INVALID (field "Content-Type"); files
- * without usable triangles, crashes and timeouts with LUCENT_E_MESH; a mesh larger than the whole
- * budget with LUCENT_E_LIMIT. */
-lucent_status mesh_store_put(struct mesh_store *s, const void *bytes, size_t len, const char *content_type,
+/* Imports the upload (format: obj, ply, stl, gltf, glb as mesh_upload_format names it, or bundle,
+ * mesh_bundle.h) in isolation and stores it under id_out. Idempotent: when the id exists, nothing is
+ * imported or written, *created = 0 and info is the stored one. When it does not fit the byte budget,
+ * the least recently used meshes (by put or get; after a restart, by creation) are evicted until it
+ * does. Unknown formats fail with LUCENT_E_INVALID (field "Content-Type"); files without usable
+ * triangles, crashes and timeouts with LUCENT_E_MESH; a mesh larger than the whole budget with
+ * LUCENT_E_LIMIT. */
+lucent_status mesh_store_put(struct mesh_store *s, const void *bytes, size_t len, const char *format,
                              char id_out[65], struct mesh_info *info, int *created, lucent_error *err);
 
 /* Fills info and the path of the compact file, once the file is checked against its MAC (again only

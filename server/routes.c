@@ -15,6 +15,7 @@
 #include "scene_canonical.h"
 #include "scene_query.h"
 #include "server.h"
+#include "upload_form.h"
 #include "upload_queue.h"
 
 #include "lucentd_build.h"
@@ -565,14 +566,28 @@ static enum MHD_Result handle_upload(struct request *req)
     if (atomic_load(&srv->phase) == PHASE_DRAINING)
         return http_send_problem(req, PROBLEM_NOT_READY, NULL, "the daemon is shutting down");
     if (req->body_len == 0)
-        return http_send_problem(req, LUCENT_E_INVALID, "body", "send the mesh file (OBJ, PLY, STL, glTF or GLB) as the body");
-    /* curl --data-binary labels any file a form; that says nothing about the format, so it is sniffed. */
+        return http_send_problem(req, LUCENT_E_INVALID, "body", "send the mesh file (OBJ, PLY, STL, glTF or GLB) as the body, or "
+                                                                  "a glTF and the files it names as multipart/form-data");
+    unsigned char *bytes = req->body;
+    size_t len = req->body_len;
+    const char *format;
+    lucent_error err = {0};
     const char *ct = http_header(req, MHD_HTTP_HEADER_CONTENT_TYPE);
-    if (ct && strncasecmp(ct, "application/x-www-form-urlencoded", 33) == 0)
-        ct = NULL;
-    struct upload_job *job = upload_job_new(req->body, req->body_len, ct);
+    if (upload_form_is_form(ct)) {
+        if (upload_form_read(req->connection, req->body, req->body_len, &bytes, &len, &format, &err) != LUCENT_OK)
+            return http_send_error(req, &err);
+        /* the files (no larger than the form) stand in for it under the request's body charge */
+        free(req->body);
+    } else {
+        /* curl --data-binary labels any file a form; that says nothing about the format, so it is sniffed. */
+        if (ct && strncasecmp(ct, "application/x-www-form-urlencoded", 33) == 0)
+            ct = NULL;
+        if (!(format = mesh_upload_format(ct, bytes, len, &err)))
+            return http_send_error(req, &err);
+    }
     req->body = NULL; /* the job owns the bytes now */
     req->body_len = 0;
+    struct upload_job *job = upload_job_new(bytes, len, format);
     if (!job)
         return http_send_problem(req, LUCENT_E_NOMEM, NULL, "out of memory taking the upload");
     job->connection = req->connection;

@@ -32,7 +32,7 @@ struct upload_queue *upload_queue_create(struct mesh_store *store, int max_runni
     return q;
 }
 
-struct upload_job *upload_job_new(unsigned char *bytes, size_t len, const char *content_type)
+struct upload_job *upload_job_new(unsigned char *bytes, size_t len, const char *format)
 {
     struct upload_job *job = calloc(1, sizeof *job);
     if (!job) {
@@ -42,7 +42,7 @@ struct upload_job *upload_job_new(unsigned char *bytes, size_t len, const char *
     job->refs = 1;
     job->bytes = bytes;
     job->len = len;
-    strncpy(job->content_type, content_type ? content_type : "", sizeof job->content_type - 1);
+    strncpy(job->format, format, sizeof job->format - 1);
     return job;
 }
 
@@ -74,7 +74,7 @@ static void *import_thread(void *arg)
     struct mesh_info info;
     int created = 0;
     memset(&info, 0, sizeof info);
-    lucent_status st = mesh_store_put(q->store, job->bytes, job->len, job->content_type, id, &info, &created, &err);
+    lucent_status st = mesh_store_put(q->store, job->bytes, job->len, job->format, id, &info, &created, &err);
     pthread_mutex_lock(&q->lock);
     int mine = job->done == 0;
     if (mine) {

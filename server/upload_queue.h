@@ -13,7 +13,7 @@ struct upload_job {
     struct MHD_Connection *connection;
     unsigned char *bytes;          /* owned by the job */
     size_t len;
-    char content_type[128];
+    char format[8];                /* mesh_store_put's */
     /* Written by the import thread before done is set; read after the resume. */
     int done;                      /* 1 imported (or refused), -1 cancelled by shutdown */
     lucent_status status;
@@ -34,7 +34,7 @@ struct resume_gate;
 struct upload_queue *upload_queue_create(struct mesh_store *store, int max_running, struct resume_gate *resumes);
 /* A job holding one reference (the caller's); takes ownership of bytes (freed with the job). NULL
  * (bytes freed) when out of memory. */
-struct upload_job *upload_job_new(unsigned char *bytes, size_t len, const char *content_type);
+struct upload_job *upload_job_new(unsigned char *bytes, size_t len, const char *format);
 void upload_job_release(struct upload_queue *q, struct upload_job *job);
 /* Suspends job->connection and starts the import; call from the access handler. -1 (nothing
  * suspended): too many imports running or the queue is closed. */

@@ -121,7 +121,7 @@ static void check_lifecycle(void)
     struct mesh_store *s = open_store(dir, 1 << 20);
 
     double t0 = seconds();
-    lucent_status st = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", id, &info, &created, &err);
+    lucent_status st = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj", id, &info, &created, &err);
     double t1 = seconds();
     test_check(st == LUCENT_OK && created == 1 && strcmp(id, TRIANGLE_ID) == 0 && info.triangles == 1 &&
                    info.bytes == strlen(TRIANGLE_OBJ) && info.created > 0 && info.bounds_min[0] == 10,
@@ -138,7 +138,7 @@ static void check_lifecycle(void)
                (unsigned long long)one);
 
     t0 = seconds();
-    st = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "application/octet-stream", id2, &again, &created, &err);
+    st = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj", id2, &again, &created, &err);
     t1 = seconds();
     test_check(st == LUCENT_OK && created == 0 && strcmp(id, id2) == 0 && again.created == info.created &&
                    mesh_store_bytes(s) == one && count_files(dir, NULL) == 2,
@@ -153,23 +153,31 @@ static void check_lifecycle(void)
                lucent_mesh_triangle_count(m), err.message);
     lucent_mesh_free(m);
 
-    st = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), NULL, quad_id, &info, &created, &err);
+    const char *sniffed = mesh_upload_format(NULL, QUAD_OBJ, strlen(QUAD_OBJ), &err);
+    st = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), sniffed ? sniffed : "none", quad_id, &info, &created, &err);
     test_check(st == LUCENT_OK && created == 1 && info.triangles == 2,
-               "put a quad without a Content-Type: %s, %u triangles", lucent_status_name(st), info.triangles);
+               "put a quad without a Content-Type (sniffed: %s): %s, %u triangles", sniffed ? sniffed : "nothing",
+               lucent_status_name(st), info.triangles);
     uint64_t two = mesh_store_bytes(s);
 
     static const char no_faces[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
-    st = mesh_store_put(s, no_faces, strlen(no_faces), "model/obj", id2, &info, &created, &err);
+    st = mesh_store_put(s, no_faces, strlen(no_faces), "obj", id2, &info, &created, &err);
     test_check(st == LUCENT_E_MESH && count_files(dir, NULL) == 4, "OBJ without faces: %s (%s), no file left",
                lucent_status_name(st), err.message);
-    st = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/ply", id2, &info, &created, &err);
-    test_check(st == LUCENT_E_INVALID && strcmp(err.field, "Content-Type") == 0 && strstr(err.message, "says ply") &&
-                   strstr(err.message, "are obj"),
-               "OBJ bytes declared model/ply: %s, field \"%s\": %s", lucent_status_name(st), err.field, err.message);
-    st = mesh_store_put(s, "hello", 5, "application/octet-stream", id2, &info, &created, &err);
-    test_check(st == LUCENT_E_INVALID && strcmp(err.field, "Content-Type") == 0,
-               "unrecognizable bytes as application/octet-stream: %s, field \"%s\"", lucent_status_name(st),
+    err = (lucent_error){0};
+    sniffed = mesh_upload_format("model/ply", TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), &err);
+    test_check(!sniffed && err.status == LUCENT_E_INVALID && strcmp(err.field, "Content-Type") == 0 &&
+                   strstr(err.message, "says ply") && strstr(err.message, "are obj"),
+               "OBJ bytes declared model/ply: %s, field \"%s\": %s", lucent_status_name(err.status), err.field,
+               err.message);
+    err = (lucent_error){0};
+    sniffed = mesh_upload_format("application/octet-stream", "hello", 5, &err);
+    test_check(!sniffed && err.status == LUCENT_E_INVALID && strcmp(err.field, "Content-Type") == 0,
+               "unrecognizable bytes as application/octet-stream: %s, field \"%s\"", lucent_status_name(err.status),
                err.field);
+    st = mesh_store_put(s, "hello", 5, "docx", id2, &info, &created, &err);
+    test_check(st == LUCENT_E_INVALID && strcmp(err.field, "Content-Type") == 0,
+               "a format the importer does not know: %s, field \"%s\"", lucent_status_name(st), err.field);
 
     /* an interrupted put, an interrupted delete, damaged metadata, and someone else's file */
     mesh_store_close(s);
@@ -260,7 +268,7 @@ static void check_budget(void)
     int created;
     make_dir(dir);
     struct mesh_store *probe = open_store(dir, 1 << 20);
-    lucent_status st = mesh_store_put(probe, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", id, &info, &created, &err);
+    lucent_status st = mesh_store_put(probe, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj", id, &info, &created, &err);
     uint64_t one = mesh_store_bytes(probe);
     test_check(st == LUCENT_OK, "one triangle takes %llu bytes of the store", (unsigned long long)one);
     mesh_store_close(probe);
@@ -272,10 +280,10 @@ static void check_budget(void)
     make_dir(dir);
     uint64_t budget = 2 * one + one / 2;
     struct mesh_store *s = open_store(dir, budget);
-    lucent_status sa = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", a, &info, &created, &err);
-    lucent_status sb = mesh_store_put(s, wider, strlen(wider), "model/obj", b, &info, &created, &err);
+    lucent_status sa = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj", a, &info, &created, &err);
+    lucent_status sb = mesh_store_put(s, wider, strlen(wider), "obj", b, &info, &created, &err);
     lucent_status ga = mesh_store_get(s, a, &info, path, sizeof path, &err); /* A is now the more recent */
-    lucent_status sc = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), "model/obj", c, &info, &created, &err);
+    lucent_status sc = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), "obj", c, &info, &created, &err);
     lucent_status gb = mesh_store_get(s, b, &info, path, sizeof path, &err);
     lucent_status ga2 = mesh_store_get(s, a, &info, path, sizeof path, &err);
     lucent_status gc = mesh_store_get(s, c, &info, path, sizeof path, &err);
@@ -291,8 +299,8 @@ static void check_budget(void)
     /* a mesh larger than the whole budget is refused, and evicts nothing */
     make_dir(dir);
     s = open_store(dir, one);
-    sa = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", a, &info, &created, &err);
-    sc = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), "model/obj", c, &info, &created, &err);
+    sa = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj", a, &info, &created, &err);
+    sc = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), "obj", c, &info, &created, &err);
     test_check(sa == LUCENT_OK && sc == LUCENT_E_LIMIT && strstr(err.message, "whole budget") &&
                    mesh_store_bytes(s) == one,
                "a mesh larger than the whole budget: %s \"%s\"; the stored one stays (%llu bytes)",
@@ -316,7 +324,7 @@ static void *put_thread(void *arg)
     putter *p = arg;
     struct mesh_info info;
     lucent_error err = {0};
-    p->status = mesh_store_put(p->store, p->bytes, strlen(p->bytes), "model/obj", p->id, &info, &p->created, &err);
+    p->status = mesh_store_put(p->store, p->bytes, strlen(p->bytes), "obj", p->id, &info, &p->created, &err);
     if (p->status != LUCENT_OK)
         printf("     a put failed: %s\n", err.message);
     return NULL;
@@ -433,8 +441,8 @@ static void check_integrity(void)
     test_check(key_seen && st.st_size == 32 && (st.st_mode & 0777) == 0600,
                "the store made its MAC key: %lld bytes, mode %o", (long long)st.st_size, st.st_mode & 0777);
     static const char same_size[] = "v 10 0 0\nv 12 0 0\nv 10 1 0\nf 1 2 3\n"; /* as TRIANGLE_OBJ, wider */
-    lucent_status sa = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", a, &info, &created, &err);
-    lucent_status sb = mesh_store_put(s, same_size, strlen(same_size), "model/obj", b, &info, &created, &err);
+    lucent_status sa = mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj", a, &info, &created, &err);
+    lucent_status sb = mesh_store_put(s, same_size, strlen(same_size), "obj", b, &info, &created, &err);
     mesh_store_close(s);
     s = open_store(dir, 1 << 20);
     lucent_status ga = mesh_store_get(s, a, &info, path_a, sizeof path_a, &err);
@@ -495,14 +503,14 @@ static pid_t spawn(const char *dir, uint64_t budget, const char *what, const cha
     char id[65], path[PATH_MAX], obj[128];
     int created, ok = mesh_store_open(dir, budget, NULL, jail, &LIMITS, &s, &err) == LUCENT_OK;
     if (ok && strcmp(what, "put") == 0)
-        ok = mesh_store_put(s, arg, strlen(arg), "model/obj", id, &info, &created, &err) == LUCENT_OK;
+        ok = mesh_store_put(s, arg, strlen(arg), "obj", id, &info, &created, &err) == LUCENT_OK;
     else if (ok && strcmp(what, "get") == 0)
         ok = mesh_store_get(s, arg, &info, path, sizeof path, &err) == LUCENT_OK;
     else if (ok && strcmp(what, "delete") == 0)
         ok = mesh_store_delete(s, arg, &err) == LUCENT_OK;
     for (int k = 0; ok && strcmp(what, "puts") == 0 && k < 6; k++) {
         numbered_obj(obj, sizeof obj, base + k);
-        ok = mesh_store_put(s, obj, strlen(obj), "model/obj", id, &info, &created, &err) == LUCENT_OK;
+        ok = mesh_store_put(s, obj, strlen(obj), "obj", id, &info, &created, &err) == LUCENT_OK;
     }
     if (!ok)
         fprintf(stderr, "child %s: %s\n", what, err.message);
@@ -533,7 +541,7 @@ static void check_sharing(void)
     test_check(deleted == 0 && got == LUCENT_E_INVALID && strstr(err.message, "no mesh") && count_files(dir, NULL) == 0,
                "deleted by another process: child %d, then get %s \"%s\" (a 404, not a damaged mesh), %d files",
                deleted, lucent_status_name(got), err.message, count_files(dir, NULL));
-    mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", id, &info, &created, &err);
+    mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj", id, &info, &created, &err);
     uint64_t one = mesh_store_bytes(s);
     mesh_store_close(s);
     remove_dir(dir);
@@ -543,10 +551,10 @@ static void check_sharing(void)
     uint64_t budget = 2 * one + one / 2;
     make_dir(dir);
     s = open_store(dir, budget);
-    mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "model/obj", a, &info, &created, &err);
-    mesh_store_put(s, wider, strlen(wider), "model/obj", b, &info, &created, &err);
+    mesh_store_put(s, TRIANGLE_OBJ, strlen(TRIANGLE_OBJ), "obj", a, &info, &created, &err);
+    mesh_store_put(s, wider, strlen(wider), "obj", b, &info, &created, &err);
     int used = reap(spawn(dir, budget, "get", a, 0));
-    lucent_status sc = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), "model/obj", c, &info, &created, &err);
+    lucent_status sc = mesh_store_put(s, QUAD_OBJ, strlen(QUAD_OBJ), "obj", c, &info, &created, &err);
     lucent_status ga = mesh_store_get(s, a, &info, path, sizeof path, &err);
     lucent_status gb = mesh_store_get(s, b, &info, path, sizeof path, &err);
     test_check(used == 0 && sc == LUCENT_OK && ga == LUCENT_OK && gb == LUCENT_E_INVALID,

@@ -24,7 +24,7 @@ r=$top/renderer s=$top/server
 declare -A sources=(
     [scene]="$r/scene_parse.c $r/material_presets.c $r/error.c"
     [query]="$s/scene_query.c $s/url_unescape.c $r/scene_parse.c $r/material_presets.c $r/error.c"
-    [sniff]="$s/mesh_format_sniff.c"
+    [sniff]="$s/mesh_format_sniff.c $r/error.c"
     [lmesh]="$r/mesh_compact.c $r/mesh.c $r/mesh_closed.c $r/error.c"
     [import]="$here/sandbox_new.cpp $r/mesh_import.c $r/mesh.c $r/mesh_closed.c $r/mesh_compact.c $r/error.c $s/mesh_bundle.c"
     [image]="$r/image_io.cpp $r/image.c $r/image_compare.c $r/json_text.c $r/error.c"
