@@ -221,7 +221,9 @@ int http_perform(struct http_client *c, const struct http_request *rq, struct ht
     curl_easy_setopt(h, CURLOPT_WRITEDATA, rs);
     curl_easy_setopt(h, CURLOPT_HEADERFUNCTION, on_header);
     curl_easy_setopt(h, CURLOPT_HEADERDATA, rs);
-    if (strcmp(rq->method, "POST") == 0) {
+    if (strcmp(rq->method, "POST") == 0 && rq->form) {
+        curl_easy_setopt(h, CURLOPT_MIMEPOST, rq->form);
+    } else if (strcmp(rq->method, "POST") == 0) {
         curl_easy_setopt(h, CURLOPT_POSTFIELDS, rq->body ? rq->body : "");
         curl_easy_setopt(h, CURLOPT_POSTFIELDSIZE_LARGE, (curl_off_t)rq->body_len);
     } else if (strcmp(rq->method, "GET") != 0) {

@@ -21,6 +21,7 @@ struct http_request {
     const char *path;   /* from the server's root: "/v1/render" */
     const void *body;   /* POST only; not copied */
     size_t body_len;
+    curl_mime *form;    /* POST only: a multipart/form-data body instead of body (curl sets its type) */
     const char *content_type;
     const char *accept;
     FILE *sink; /* when set, a 2xx answer's body is written here instead of to memory */

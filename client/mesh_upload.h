@@ -8,9 +8,11 @@
 #include "cli_error.h"
 #include "http_client.h"
 
-/* POSTs the file; *answer is the daemon's mesh metadata (owned by the caller). */
+/* POSTs the file (a .gltf naming files beside it: with them, as multipart/form-data); *answer is the
+ * daemon's mesh metadata (owned by the caller). */
 int mesh_upload(struct http_client *c, const char *path, json_t **answer, lc_error *err);
-/* The id of the file's mesh on the daemon, uploading it only when the daemon answers 404 for it. */
+/* The id of the file's mesh on the daemon, uploading it only when the daemon answers 404 for it (a glTF
+ * with files is always sent: its id is the daemon's hash of them all). */
 int mesh_ensure(struct http_client *c, const char *path, char id[65], lc_error *err);
 
 #endif

@@ -113,6 +113,22 @@ run render --mesh "$cube" --preset marble "${fast[@]}" --size 64x64 -o "$work/cu
 check "render after delete uploads again ($(( $(posts "$A_log") - before )) upload)" \
     eval '[ $rc = 0 ] && [ $(( $(posts "$A_log") - before )) = 1 ] && pngs "$work/cube2.png:64:64"'
 
+# A glTF whose buffer and texture are files beside it: upload sends them with it as a form (the daemon
+# names the mesh by the three files' bundle), render finds it stored and draws it; one named file missing
+# is the user's error before anything is sent.
+gltf_dir=/usr/share/assimp/models/glTF2/BoxTextured-glTF
+run -v meshes upload "$gltf_dir/BoxTextured.gltf"
+check "meshes upload of a glTF with its buffer beside it: exit 0, 12 triangles, sent as a form" eval '[ $rc = 0 ] &&
+    [ "$(json_field "$work/out" "[\"triangles\"]")" = 12 ] && grep -qi "multipart/form-data" "$work/err"'
+before=$(posts "$A_log")
+run render --mesh "$gltf_dir/BoxTextured.gltf" --preset marble "${fast[@]}" --size 48x48 -o "$work/box.png"
+check "render --mesh the glTF: one form posted, answered as already stored, an image" \
+    eval '[ $rc = 0 ] && [ $(( $(posts "$A_log") - before )) = 1 ] && pngs "$work/box.png:48:48"'
+mkdir -p "$work/lonely" && cp "$gltf_dir/BoxTextured.gltf" "$work/lonely/"
+run meshes upload "$work/lonely/BoxTextured.gltf"
+check "a glTF whose buffer is missing beside it: exit 4 naming the file, nothing sent" \
+    eval 'expect 4 "BoxTextured0.bin" && [ $(( $(posts "$A_log") - before )) = 1 ]'
+
 # --scene with overrides: the result equals the same scene given by flags alone.
 cat >"$work/scene.json" <<JSON
 {"mesh": {"builtin": "protrusion"}, "material": {"preset": "skin1"}, "lights": [{"direction": [0, -1, 0], "intensity": 2}],

@@ -312,6 +312,20 @@ async function main() {
       last = await checkImage(page, 'image of the uploaded cube', last);
     });
 
+    await step('glTF upload with the buffer it names', async () => {
+      const n = await renders(page, 'figure-a');
+      const dir = '/usr/share/assimp/models/glTF2/BoxTextured-glTF';
+      await page.setInputFiles('#mesh-file', ['BoxTextured.gltf', 'BoxTextured0.bin'].map((f) => path.join(dir, f)));
+      await page.waitForFunction(() => /and 1 more file\(s\): 12 triangles/.test(
+        document.getElementById('mesh-status').textContent), null, { timeout: WAIT_MS });
+      await waitRenders(page, 'figure-a', n + 1);
+      const status = await page.textContent('#mesh-status');
+      const option = await page.textContent('#mesh option:checked');
+      check('the glTF and its buffer went as one upload, its mesh selected', option.startsWith('BoxTextured.gltf'),
+        `"${status}", option "${option}"`);
+      last = await checkImage(page, 'image of the uploaded glTF', last);
+    });
+
     await step('two methods side by side', async () => {
       const n = await renders(page, 'figure-a');
       await page.check('#compare');

@@ -377,30 +377,41 @@ function choosePreset(name) {
   showAllSliders();
 }
 
-async function upload(file) {
+const MESH_FILE = /\.(obj|ply|stl|gltf|glb)$/i;
+
+// One mesh file goes as the body (the server sniffs its format); a glTF chosen or dropped together with
+// the buffers and images it names goes as multipart/form-data, which the server resolves against them.
+async function upload(fileList) {
+  const files = [...fileList];
+  const main = files.find((f) => MESH_FILE.test(f.name)) || files[0];
+  const label = files.length > 1 ? `${main.name} and ${files.length - 1} more file(s)` : main.name;
   const status = $('mesh-status');
-  status.textContent = `uploading ${file.name} (${Math.ceil(file.size / 1024)} KiB)…`;
+  const bytes = files.reduce((sum, f) => sum + f.size, 0);
+  status.textContent = `uploading ${label} (${Math.ceil(bytes / 1024)} KiB)…`;
+  let body = main;
+  let headers = { ...authHeaders(), 'Content-Type': 'application/octet-stream' };
+  if (files.length > 1) {
+    body = new FormData();
+    for (const f of files) body.append('file', f, f.name);
+    headers = authHeaders(); // the browser writes the multipart Content-Type with its boundary
+  }
   try {
-    const resp = await fetch('/v1/meshes', {
-      method: 'POST',
-      body: file,
-      headers: { ...authHeaders(), 'Content-Type': 'application/octet-stream' }, // the server sniffs the format
-    });
+    const resp = await fetch('/v1/meshes', { method: 'POST', body, headers });
     if (!resp.ok) throw await problemFrom(resp);
     const info = await resp.json();
     const select = $('mesh');
     let option = [...select.options].find((o) => o.value === info.id);
     if (!option) {
-      option = new Option(`${file.name} (${info.triangles} triangles)`, info.id);
+      option = new Option(`${main.name} (${info.triangles} triangles)`, info.id);
       select.append(option);
     }
     select.value = info.id;
-    status.textContent = `${file.name}: ${info.triangles} triangles, ${info.vertices} vertices, id ${info.id.slice(0, 12)}…`;
+    status.textContent = `${label}: ${info.triangles} triangles, ${info.vertices} vertices, id ${info.id.slice(0, 12)}…`;
     setError('upload', null);
     schedule();
   } catch (e) {
-    status.textContent = `${file.name}: upload failed`;
-    setError('upload', e instanceof ProblemError ? e : new Error(`could not upload ${file.name} (${e.message})`));
+    status.textContent = `${label}: upload failed`;
+    setError('upload', e instanceof ProblemError ? e : new Error(`could not upload ${label} (${e.message})`));
   }
 }
 
@@ -446,8 +457,8 @@ function wire() {
     schedule();
   });
   $('mesh-file').addEventListener('change', () => {
-    const file = $('mesh-file').files[0];
-    if (file) upload(file);
+    const files = $('mesh-file').files;
+    if (files.length) upload(files);
   });
   const drop = $('mesh-box');
   drop.addEventListener('dragover', (e) => {
@@ -458,8 +469,8 @@ function wire() {
   drop.addEventListener('drop', (e) => {
     e.preventDefault();
     drop.classList.remove('dragging');
-    const file = e.dataTransfer.files[0];
-    if (file) upload(file);
+    const files = e.dataTransfer.files;
+    if (files.length) upload(files);
   });
   $('copy-link').addEventListener('click', copyLink);
   $('token').value = sessionStorage.getItem('lucent-token') || '';
