@@ -28,7 +28,7 @@ enum kind {
 enum {
     F_MESH, F_MESH_TRIANGLES, F_SCALE_MM, F_PRESET, F_SIGMA_A, F_SIGMA_S_PRIME, F_ETA, F_G,
     F_LIGHT_DIR, F_LIGHT_POS, F_LIGHT_COLOR, F_LIGHT_INTENSITY,
-    F_CAMERA_POS, F_CAMERA_TARGET, F_CAMERA_UP, F_FOV,
+    F_CAMERA_POS, F_CAMERA_TARGET, F_CAMERA_DIR, F_CAMERA_UP, F_FOV,
     F_WIDTH, F_HEIGHT, F_SIZE, F_METHOD, F_SAMPLES, F_SAMPLING, F_FALLBACK, F_SINGLE_SCATTERING,
     F_NO_SINGLE_SCATTERING, F_PROJECTION_SIZE, F_SIDE_PROJECTION_SIZE, F_REFERENCE_POINTS,
     F_REFERENCE_THRESHOLD, F_BACKGROUND, F_EXPOSURE, F_FORMAT, F_COUNT
@@ -49,6 +49,7 @@ static const struct { const char *path; enum kind kind; } rules[F_COUNT] = {
     [F_LIGHT_INTENSITY] = {"intensity", K_LIGHT_NUM},
     [F_CAMERA_POS] = {"camera.position", K_VEC3},
     [F_CAMERA_TARGET] = {"camera.target", K_VEC3},
+    [F_CAMERA_DIR] = {"camera.direction", K_VEC3},
     [F_CAMERA_UP] = {"camera.up", K_VEC3},
     [F_FOV] = {"camera.fov_deg", K_NUM},
     [F_WIDTH] = {"width", K_INT},
@@ -84,6 +85,8 @@ const struct cli_option scene_options[] = {
     {"light-intensity", 0, "E", "intensity of the light added last (before any: the scene's first light)", F_LIGHT_INTENSITY},
     {"camera-pos", 0, "X,Y,Z", "camera position (with --camera-target)", F_CAMERA_POS},
     {"camera-target", 0, "X,Y,Z", "point the camera looks at", F_CAMERA_TARGET},
+    {"camera-dir", 0, "X,Y,Z", "the way the camera looks, framed automatically (default: a three-quarter view)",
+     F_CAMERA_DIR},
     {"camera-up", 0, "X,Y,Z", "camera up vector (default 0,1,0)", F_CAMERA_UP},
     {"fov", 0, "DEG", "vertical field of view in degrees (default 40)", F_FOV},
     {"width", 0, "PX", "image width (default 512)", F_WIDTH},

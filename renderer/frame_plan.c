@@ -38,8 +38,11 @@ lucent_status frame_camera(const lucent_scene *s, const struct lucent_mesh *mesh
     } else {
         double half_min = atan(fmin(tan_v, tan_h));
         double dist = radius / sin(half_min);
-        eye[0] = 0, eye[1] = 0, eye[2] = dist;
-        forward[0] = 0, forward[1] = 0, forward[2] = -1;
+        for (int i = 0; i < 3; i++) {
+            forward[i] = s->camera.direction[i];
+            eye[i] = -dist * forward[i];
+            up[i] = s->camera.up[i];
+        }
     }
     struct view_frame cam = {.perspective = 1, .half_w = tan_h, .half_h = tan_v};
     if (view_frame_look(&cam, eye, forward, up) != 0)

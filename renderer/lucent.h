@@ -118,8 +118,9 @@ typedef struct lucent_light {
 } lucent_light;
 
 typedef struct lucent_camera {
-    int given;             /* 0: automatic framing (from +Z, +Y up, 40 degrees) */
+    int given;             /* 1: position and target; 0: automatic framing along direction */
     double position[3], target[3], up[3];
+    double direction[3];   /* the way an automatically framed camera looks (unit); default a three-quarter view */
     double fov_deg;        /* vertical */
 } lucent_camera;
 

@@ -53,6 +53,10 @@ static const range R_G = {-LUCENT_MAX_G, LUCENT_MAX_G, 0, "sigma_s = sigma_s' / 
 #define DEFAULT_SAMPLES 16
 #define DEFAULT_PROJECTION 512
 #define DEFAULT_FOV_DEG 40.0
+/* The automatic camera's default: from the front left and above, as model viewers frame an object, so
+ * that a box shows three faces and the default key light (from the upper right front) models it. */
+#define DEFAULT_VIEW_AZIMUTH_DEG 35.0
+#define DEFAULT_VIEW_ELEVATION_DEG 25.0
 #define DEFAULT_ETA 1.3
 /* Sine of the smallest angle allowed between camera.up and the view direction. It is the bound
  * view_frame_look() applies at render time; checking it here fails the request before it queues. */
@@ -85,7 +89,7 @@ static const char *const mesh_keys[] = {"builtin", "triangles", "file", "id", NU
 static const char *const material_keys[] = {"preset", "sigma_a", "sigma_s_prime", "eta", "g", NULL};
 static const char *const directional_keys[] = {"type", "direction", "color", "intensity", NULL};
 static const char *const point_keys[] = {"type", "position", "color", "intensity", NULL};
-static const char *const camera_keys[] = {"position", "target", "up", "fov_deg", NULL};
+static const char *const camera_keys[] = {"position", "target", "direction", "up", "fov_deg", NULL};
 
 /* ---- Text for messages ---- */
 
@@ -590,49 +594,58 @@ static lucent_status parse_lights(json_t *v, lucent_scene *s, lucent_error *err)
     return LUCENT_OK;
 }
 
-/* Rejects cameras that have no well-defined orientation. */
-static lucent_status check_camera_basis(const lucent_camera *c, lucent_error *err)
+/* Rejects cameras that have no well-defined orientation: forward is target - position or direction. */
+static lucent_status check_camera_basis(const double view[3], const double up_in[3], int framed, lucent_error *err)
 {
-    double view[3], forward[3], up[3];
-    for (int i = 0; i < 3; i++)
-        view[i] = c->target[i] - c->position[i];
+    double forward[3], up[3];
     if (!normalize3(view, forward))
-        return lucent_fail(err, LUCENT_E_INVALID, "camera.target",
-                           "must differ from camera.position");
-    if (!normalize3(c->up, up))
+        return lucent_fail(err, LUCENT_E_INVALID, framed ? "camera.direction" : "camera.target",
+                           framed ? "must not be the zero vector" : "must differ from camera.position");
+    if (!normalize3(up_in, up))
         return lucent_fail(err, LUCENT_E_INVALID, "camera.up", "must not be the zero vector");
     if (cross_length(forward, up) < MIN_UP_SINE)
-        return lucent_fail(err, LUCENT_E_INVALID, "camera.up",
-                           "must not be parallel to the view direction (target - position)");
+        return lucent_fail(err, LUCENT_E_INVALID, "camera.up", "must not be parallel to the view direction");
     return LUCENT_OK;
 }
 
+/* Either position and target (a placed camera) or direction (framed automatically along it). */
 static lucent_status parse_camera(json_t *v, lucent_camera *out, lucent_error *err)
 {
-    static const char when[] = "in a camera object (omit \"camera\" for automatic framing)";
+    static const char when[] = "in a camera object without \"direction\" (omit \"camera\" for automatic framing)";
     if (!v)
         return LUCENT_OK;
     lucent_camera c = *out;
     lucent_status st = require_object(v, "camera", err);
     if (st == LUCENT_OK)
         st = check_known_keys(v, camera_keys, "camera", err);
-    if (st == LUCENT_OK)
+    int framed = st == LUCENT_OK && json_object_get(v, "direction");
+    if (framed && (json_object_get(v, "position") || json_object_get(v, "target")))
+        return lucent_fail(err, LUCENT_E_INVALID, "camera.direction",
+                           "give either direction (framed automatically) or position and target, not both");
+    if (st == LUCENT_OK && framed)
+        st = get_vec(v, "camera", "direction", 3, &R_COORD, c.direction, err);
+    if (st == LUCENT_OK && !framed)
         st = require(v, "camera", "position", when, err);
-    if (st == LUCENT_OK)
+    if (st == LUCENT_OK && !framed)
         st = require(v, "camera", "target", when, err);
-    if (st == LUCENT_OK)
+    if (st == LUCENT_OK && !framed)
         st = get_vec(v, "camera", "position", 3, &R_COORD, c.position, err);
-    if (st == LUCENT_OK)
+    if (st == LUCENT_OK && !framed)
         st = get_vec(v, "camera", "target", 3, &R_COORD, c.target, err);
     if (st == LUCENT_OK)
         st = get_vec(v, "camera", "up", 3, &R_COORD, c.up, err);
     if (st == LUCENT_OK)
         st = get_number(v, "camera", "fov_deg", &R_FOV_DEG, &c.fov_deg, err);
+    double view[3];
+    for (int i = 0; i < 3; i++)
+        view[i] = framed ? c.direction[i] : c.target[i] - c.position[i];
     if (st == LUCENT_OK)
-        st = check_camera_basis(&c, err);
+        st = check_camera_basis(view, c.up, framed, err);
     if (st != LUCENT_OK)
         return st;
-    c.given = 1;
+    if (framed)
+        normalize3(c.direction, c.direction);
+    c.given = !framed;
     *out = c;
     return LUCENT_OK;
 }
@@ -772,6 +785,11 @@ void lucent_scene_defaults(lucent_scene *scene)
     normalize3(key_light, scene->lights[0].direction);
     scene->light_count = 1;
     scene->camera.up[1] = 1.0;
+    const double deg = 3.14159265358979323846 / 180.0;
+    double azimuth = DEFAULT_VIEW_AZIMUTH_DEG * deg, elevation = DEFAULT_VIEW_ELEVATION_DEG * deg;
+    scene->camera.direction[0] = sin(azimuth) * cos(elevation);
+    scene->camera.direction[1] = -sin(elevation);
+    scene->camera.direction[2] = -cos(azimuth) * cos(elevation);
     scene->camera.fov_deg = DEFAULT_FOV_DEG;
     scene->width = DEFAULT_SIDE;
     scene->height = DEFAULT_SIDE;

@@ -11,7 +11,7 @@
 
 /* A field added to lucent_scene must be added to scene_canonical() too, or two scenes that differ in
  * it would share an ETag and a cached image. This size check makes that impossible to miss. */
-_Static_assert(sizeof(lucent_scene) == 1784,
+_Static_assert(sizeof(lucent_scene) == 1808,
                "lucent_scene changed: serialize the new field in server/scene_canonical.c, then update this size");
 
 struct out {
@@ -77,6 +77,7 @@ int scene_canonical(const lucent_scene *s, char *buf, size_t cap)
     vec(&o, "camera.position", s->camera.position, 3);
     vec(&o, "camera.target", s->camera.target, 3);
     vec(&o, "camera.up", s->camera.up, 3);
+    vec(&o, "camera.direction", s->camera.direction, 3);
     num(&o, "camera.fov_deg", s->camera.fov_deg);
     put(&o, "width=%d;height=%d;method=%d;samples=%d;sampling=%d;", s->width, s->height, (int)s->method,
         s->samples, (int)s->sampling);

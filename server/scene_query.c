@@ -14,7 +14,7 @@
  *   preset          -> material.preset          sigma_a, sigma_s_prime (r,g,b), eta, g -> material.*
  *   light_type, light_dir, light_pos, light_color, light_intensity -> lights[0].type/direction/position/
  *                      color/intensity (one light; light_pos alone implies light_type=point)
- *   camera_pos, camera_target, camera_up, fov -> camera.position/target/up/fov_deg
+ *   camera_pos, camera_target, camera_dir, camera_up, fov -> camera.position/target/direction/up/fov_deg
  *   w, h            -> width, height            background (r,g,b,a), exposure, method, samples, sampling,
  *   projection_size, side_projection_size, fallback, single_scattering (true/false), format -> the same
  *   reference_points, reference_threshold -> reference.points, reference.threshold
@@ -44,6 +44,7 @@ static const struct mapping table[] = {
     {"light_intensity", "light", "intensity", K_NUMBER},
     {"camera_pos", "camera", "position", K_VECTOR},
     {"camera_target", "camera", "target", K_VECTOR},
+    {"camera_dir", "camera", "direction", K_VECTOR},
     {"camera_up", "camera", "up", K_VECTOR},
     {"fov", "camera", "fov_deg", K_NUMBER},
     {"w", "", "width", K_NUMBER},

@@ -37,7 +37,7 @@ cube=$work/cube.obj
 printf 'v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n' >"$cube"
 printf 'f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\nf 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n' >>"$cube"
 cube_id=$(sha256sum "$cube" | cut -d' ' -f1)
-fast=(--projection-size 128 --light-dir -1,0,0)
+fast=(--projection-size 128 --light-dir -1,0,0 --camera-dir 0,0,-1)  # head-on, lit from the right
 
 # ---- daemon A: open ----
 start A --store-dir "$work/store"

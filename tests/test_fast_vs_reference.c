@@ -132,7 +132,8 @@ static void score(lucent_renderer *r, const struct scored_case *c, const char *m
              "\"mesh\":{\"%s\":\"%s\"},\"material\":{\"preset\":\"%s\"},\"lights\":[%s],"
              "\"width\":%d,\"height\":%d,\"format\":\"exr\"%s",
              c->source == BUILTIN ? "builtin" : "file", mesh, c->material, c->lights, c->side, c->side,
-             c->source == CUBE ? ",\"camera\":{\"position\":[1.3,1,2.2],\"target\":[0,0,0]}" : "");
+             c->source == CUBE ? ",\"camera\":{\"position\":[1.3,1,2.2],\"target\":[0,0,0]}"
+                               : ",\"camera\":{\"direction\":[0,0,-1]}");
     snprintf(json, sizeof json, "{%s,\"method\":\"reference\"}", base);
     lucent_image ref;
     test_render(r, json, &ref, NULL);

@@ -155,6 +155,20 @@ static void query_matches_document(void)
     test_check(st == LUCENT_OK && strcmp(tq, td) == 0, "%zu query fields build the POST document's scene%s%s",
                sizeof kv / sizeof kv[0] / 2, st == LUCENT_OK ? "" : ": ", st == LUCENT_OK ? "" : err.message);
 
+    static const char *const framed[] = {"camera_dir", "1,-1,-2", "fov", "30"};
+    lucent_scene fd = parse("{\"camera\":{\"direction\":[1,-1,-2],\"fov_deg\":30}}");
+    st = query(framed, 2, &q, &err);
+    if (st == LUCENT_OK)
+        scene_canonical(&q, tq, sizeof tq);
+    scene_canonical(&fd, td, sizeof td);
+    test_check(st == LUCENT_OK && strcmp(tq, td) == 0 && q.camera.given == 0,
+               "camera_dir builds the document's automatically framed camera%s%s", st == LUCENT_OK ? "" : ": ",
+               st == LUCENT_OK ? "" : err.message);
+    static const char *const both[] = {"camera_dir", "0,0,-1", "camera_pos", "0,0,5", "camera_target", "0,0,0"};
+    st = query(both, 3, &q, &err);
+    test_check(st == LUCENT_E_INVALID && strcmp(err.field, "camera_dir") == 0,
+               "camera_dir with camera_pos and camera_target: %s naming \"%s\"", lucent_status_name(st), err.field);
+
     static const char *const id[] = {"mesh", "00000000000000000000000000000000000000000000000000000000000000ab"};
     st = query(id, 1, &q, &err);
     test_check(st == LUCENT_OK && q.mesh.source == LUCENT_MESH_STORED && strcmp(q.mesh.id, id[1]) == 0,

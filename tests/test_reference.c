@@ -62,7 +62,8 @@ static void check_square(const char *square, const char *preset, uint32_t points
     char json[1400];
     snprintf(json, sizeof json,
              "{\"mesh\":{\"file\":\"%s\"},\"scale_mm\":100,\"material\":{\"preset\":\"%s\"},"
-             "\"lights\":[{\"type\":\"directional\",\"direction\":[0,0,-1]}],\"width\":33,\"height\":33}",
+             "\"lights\":[{\"type\":\"directional\",\"direction\":[0,0,-1]}],"
+             "\"camera\":{\"direction\":[0,0,-1]},\"width\":33,\"height\":33}",
              square, preset);
     struct fixture f;
     fixture_open(&f, json);
@@ -109,7 +110,7 @@ static void check_hierarchy(const char *mesh, const char *preset, int side, uint
     char json[600];
     snprintf(json, sizeof json,
              "{\"mesh\":{\"builtin\":\"%s\"},\"material\":{\"preset\":\"%s\"},"
-             "\"lights\":[{\"direction\":[-1,0,0]}],\"width\":%d,\"height\":%d}",
+             "\"lights\":[{\"direction\":[-1,0,0]}],\"camera\":{\"direction\":[0,0,-1]},\"width\":%d,\"height\":%d}",
              mesh, preset, side, side);
     struct fixture f;
     fixture_open(&f, json);
@@ -140,7 +141,8 @@ static void check_determinism(void)
 {
     struct fixture f;
     fixture_open(&f, "{\"mesh\":{\"builtin\":\"protrusion\"},\"material\":{\"preset\":\"skin1\"},"
-                     "\"lights\":[{\"direction\":[-1,-0.3,-0.5]}],\"width\":32,\"height\":32}");
+                     "\"lights\":[{\"direction\":[-1,-0.3,-0.5]}],"
+                     "\"camera\":{\"direction\":[0,0,-1]},\"width\":32,\"height\":32}");
     lucent_image a, b, c;
     struct reference_report rep;
     fixture_render(&f, &(struct reference_options){.points = 30000, .threads = 2}, &a, &rep);
@@ -162,7 +164,7 @@ static void check_extreme(const char *material)
     char json[600];
     snprintf(json, sizeof json,
              "{\"mesh\":{\"builtin\":\"sphere\"},\"material\":%s,\"lights\":[{\"direction\":[0,0,-1]}],"
-             "\"width\":24,\"height\":24}",
+             "\"camera\":{\"direction\":[0,0,-1]},\"width\":24,\"height\":24}",
              material);
     struct fixture f;
     fixture_open(&f, json);
@@ -190,7 +192,7 @@ static void check_extreme(const char *material)
 static void check_rejects(void)
 {
     struct fixture f;
-    fixture_open(&f, "{\"mesh\":{\"builtin\":\"sphere\"},\"width\":8,\"height\":8}");
+    fixture_open(&f, "{\"mesh\":{\"builtin\":\"sphere\"},\"camera\":{\"direction\":[0,0,-1]},\"width\":8,\"height\":8}");
     lucent_image img;
     struct reference_report rep;
     lucent_error err = {0};
@@ -236,7 +238,8 @@ static void *cancel_later(void *arg)
 static void check_cancel(void)
 {
     lucent_renderer *r = test_renderer();
-    const char *json = "{\"mesh\":{\"builtin\":\"sphere\"},\"width\":512,\"height\":512,\"method\":\"reference\"}";
+    const char *json = "{\"mesh\":{\"builtin\":\"sphere\"},"
+        "\"camera\":{\"direction\":[0,0,-1]},\"width\":512,\"height\":512,\"method\":\"reference\"}";
     lucent_scene scene;
     lucent_scene_parse(json, strlen(json), 0, &scene, NULL);
     const long delays_ms[] = {200, 1500};

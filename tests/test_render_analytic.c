@@ -54,6 +54,8 @@ static void check_case(lucent_renderer *r, const char *square, const char *prese
     snprintf(json, sizeof json,
              "{\"mesh\":{\"file\":\"%s\"},\"scale_mm\":100,\"material\":{\"preset\":\"%s\"},"
              "\"lights\":[{\"type\":\"directional\",\"direction\":[0,0,-1],\"intensity\":%g}],"
+             ""
+             "\"camera\":{\"direction\":[0,0,-1]},"
              "\"width\":65,\"height\":65,\"method\":\"%s\",\"sampling\":\"%s\",\"samples\":32,"
              "\"projection_size\":256}",
              square, preset, intensity, method, sampling);
@@ -83,7 +85,7 @@ static void check_diffuse_limit(lucent_renderer *r, double scale_mm, const char 
         snprintf(knobs, sizeof knobs, "\"sampling\":\"%s\",\"projection_size\":256", sampling);
     snprintf(json, sizeof json,
              "{\"mesh\":{\"builtin\":\"sphere\"},\"scale_mm\":%g,\"material\":{\"preset\":\"marble\"},"
-             "\"lights\":[{\"direction\":[0,0,-1]}],\"width\":65,\"height\":65,%s}",
+             "\"lights\":[{\"direction\":[0,0,-1]}],\"camera\":{\"direction\":[0,0,-1]},\"width\":65,\"height\":65,%s}",
              scale_mm, knobs);
     lucent_image img;
     lucent_stats stats;
@@ -116,7 +118,8 @@ static void check_single_scattering(lucent_renderer *r, const char *square, cons
     char json[700];
     snprintf(json, sizeof json,
              "{\"mesh\":{\"file\":\"%s\"},\"scale_mm\":100,\"material\":{\"preset\":\"skin1\",\"g\":%g},"
-             "\"lights\":[{\"direction\":[%g,0,%g],\"intensity\":2}],\"width\":33,\"height\":33,"
+             "\"lights\":[{\"direction\":[%g,0,%g],\"intensity\":2}],"
+             "\"camera\":{\"direction\":[0,0,-1]},\"width\":33,\"height\":33,"
              "\"method\":\"%s\",\"single_scattering\":true%s}",
              square, g, sin_i, -cos_i, method,
              strcmp(method, "reference") ? ",\"samples\":32,\"sampling\":\"per_channel\",\"projection_size\":256" : "");
@@ -154,7 +157,8 @@ static void check_slab_transmission(lucent_renderer *r, const char *preset, int 
     test_write_obj(slab, sizeof slab, "slab", flat_slab_obj);
     snprintf(json, sizeof json,
              "{\"mesh\":{\"file\":\"%s\"},\"scale_mm\":50,\"material\":{\"preset\":\"%s\"%s},"
-             "\"lights\":[{\"direction\":[0,0,1],\"intensity\":1}],\"width\":129,\"height\":129,"
+             "\"lights\":[{\"direction\":[0,0,1],\"intensity\":1}],"
+             "\"camera\":{\"direction\":[0,0,-1]},\"width\":129,\"height\":129,"
              "\"method\":\"five\"%s}",
              slab, preset, single ? ",\"g\":0.5" : "", single ? ",\"single_scattering\":true" : "");
     lucent_image img;

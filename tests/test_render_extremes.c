@@ -85,6 +85,8 @@ struct extreme {
  * rasterization; a black image (rel L2 exactly 1) fails every bound, the largest being 0.90. */
 #define ERROR_MARGIN 1.5
 #define SIDE_LIGHT "\"lights\":[{\"direction\":[-1,-0.3,-0.5]}]"
+/* The view every case (bar the camera ones) is measured from: straight down -Z, as the light directions assume. */
+#define FRONT_VIEW "\"camera\":{\"direction\":[0,0,-1]}"
 #define SPHERE_CASE(variant, radius, offset, e5, e1, ea) \
     {.fields = SIDE_LIGHT, .irradiance = 1.0, .measured = {e5, e1, ea}, .mesh = 1 + (variant), \
      .mesh_radius = (radius), .mesh_offset = (offset)}
@@ -192,8 +194,9 @@ static void render_case(lucent_renderer *r, const struct extreme *c, const char 
         snprintf(mesh, sizeof mesh, "/tmp/lucent-extreme-%d.obj", (int)getpid());
         write_sphere_obj(mesh, c->mesh_radius, c->mesh_offset, (enum sphere_variant)(c->mesh - 1));
     }
-    snprintf(json, sizeof json, "{%s%s%s%s,\"width\":%d,\"height\":%d,%s%s,\"format\":\"exr\"}",
-             c->mesh ? "\"mesh\":{\"file\":\"" : "", mesh, c->mesh ? "\"}," : "", c->fields, side, side,
+    snprintf(json, sizeof json, "{%s%s%s%s,%s\"width\":%d,\"height\":%d,%s%s,\"format\":\"exr\"}",
+             c->mesh ? "\"mesh\":{\"file\":\"" : "", mesh, c->mesh ? "\"}," : "", c->fields,
+             strstr(c->fields, "\"camera\"") ? "" : FRONT_VIEW ",", side, side,
              own_projection ? "" : "\"projection_size\":64,", mode);
     test_render(r, json, out, stats);
     if (c->mesh)
@@ -345,7 +348,7 @@ static void coverage_and_mean(const lucent_image *img, double *share, double *me
 #define MAX_IMAGE_MEAN_TOL 0.006
 static void check_max_image(lucent_renderer *r)
 {
-    static const char scene[] = "{\"mesh\":{\"builtin\":\"protrusion\"}," SIDE_LIGHT ",\"width\":%d,\"height\":%d}";
+    static const char scene[] = "{\"mesh\":{\"builtin\":\"protrusion\"}," SIDE_LIGHT "," FRONT_VIEW ",\"width\":%d,\"height\":%d}";
     char json[300];
     uint64_t max_pixels = lucent_renderer_max_pixels(r);
     int side = LUCENT_MAX_IMAGE_SIDE;

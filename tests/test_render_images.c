@@ -122,6 +122,8 @@ static void scene_json(char *json, size_t cap, const char *mesh, const char *met
     snprintf(json, cap,
              "{\"mesh\":{\"builtin\":\"%s\"},\"material\":{\"preset\":\"marble\"},"
              "\"lights\":[{\"type\":\"directional\",\"direction\":[-1,0,0],\"intensity\":3}],"
+             ""
+             "\"camera\":{\"direction\":[0,0,-1]},"
              "\"width\":%d,\"height\":%d,\"method\":\"%s\",\"projection_size\":%d,\"format\":\"exr\"}",
              mesh, size, size, method, projection);
 }

@@ -42,7 +42,8 @@ static int reports(const char *modelled, const char *key, const char *phrase, co
 static void check_shadow_rule(lucent_renderer *r, const char *mesh, const char *lights, int maps, const char *reason)
 {
     char json[600];
-    snprintf(json, sizeof json, "{\"mesh\":{\"builtin\":\"%s\"},\"lights\":[%s],\"width\":16,\"height\":16}", mesh,
+    snprintf(json, sizeof json, "{\"mesh\":{\"builtin\":\"%s\"},\"lights\":[%s],"
+             "\"camera\":{\"direction\":[0,0,-1]},\"width\":16,\"height\":16}", mesh,
              lights);
     lucent_image img;
     lucent_stats stats;
@@ -62,7 +63,8 @@ static void check_light_views(lucent_renderer *r, const char *mesh, const char *
                               const char *reason)
 {
     char json[700];
-    snprintf(json, sizeof json, "{\"mesh\":%s,\"method\":\"%s\",\"lights\":[%s],\"width\":32,\"height\":32}", mesh,
+    snprintf(json, sizeof json, "{\"mesh\":%s,\"method\":\"%s\",\"lights\":[%s],"
+             "\"camera\":{\"direction\":[0,0,-1]},\"width\":32,\"height\":32}", mesh,
              method, lights);
     lucent_image img;
     lucent_stats stats;
@@ -79,7 +81,8 @@ static void check_light_views(lucent_renderer *r, const char *mesh, const char *
 static void check_sheet_from_behind(lucent_renderer *r, const char *sheet)
 {
     char json[400];
-    snprintf(json, sizeof json, "{\"mesh\":%s,\"lights\":[{\"direction\":[0,0,1]}],\"width\":32,\"height\":32}",
+    snprintf(json, sizeof json, "{\"mesh\":%s,\"lights\":[{\"direction\":[0,0,1]}],"
+             "\"camera\":{\"direction\":[0,0,-1]},\"width\":32,\"height\":32}",
              sheet);
     lucent_image img;
     lucent_stats stats;
@@ -216,7 +219,7 @@ static struct auto_report render_auto(lucent_renderer *r, const char *mesh, cons
         snprintf(scale, sizeof scale, "\"scale_mm\":%g,", scale_mm);
     snprintf(json, sizeof json,
              "{\"mesh\":%s,%s\"material\":{\"preset\":\"%s\"},\"lights\":[{\"direction\":[-1,-0.3,-0.5]}],"
-             "\"width\":%d,\"height\":%d,\"method\":\"auto\"}",
+             "\"camera\":{\"direction\":[0,0,-1]},\"width\":%d,\"height\":%d,\"method\":\"auto\"}",
              mesh, scale, preset, side, side);
     lucent_image img;
     lucent_stats stats;
@@ -279,7 +282,7 @@ static void check_fallback(lucent_renderer *r, const char *bunny)
 {
     char base[1200];
     snprintf(base, sizeof base, "{\"mesh\":{\"file\":\"%s\"},\"lights\":[{\"direction\":[-1,0,0]}],"
-             "\"width\":128,\"height\":128,\"format\":\"exr\",", bunny);
+             "\"camera\":{\"direction\":[0,0,-1]},\"width\":128,\"height\":128,\"format\":\"exr\",", bunny);
     static const char *const rules[] = {"\"fallback\":\"next_best\"", "\"fallback\":\"front\"",
                                         "\"method\":\"reference\""};
     lucent_image img[3];
@@ -315,7 +318,8 @@ static void check_far_blocks(lucent_renderer *r)
     double disc[3];
     for (int i = 0; i < 3; i++) {
         char json[300];
-        snprintf(json, sizeof json, "{\"mesh\":{\"builtin\":\"sphere\"},\"width\":%d,\"height\":%d}", sides[i],
+        snprintf(json, sizeof json, "{\"mesh\":{\"builtin\":\"sphere\"},"
+                 "\"camera\":{\"direction\":[0,0,-1]},\"width\":%d,\"height\":%d}", sides[i],
                  sides[i]);
         lucent_image img;
         lucent_stats stats;

@@ -155,6 +155,14 @@ static const parse_case cases[] = {
      "camera.up"},
     {"{\"camera\": {\"position\": [0,0,5], \"target\": [0,0,0], \"up\": [1e-6,0,-1]}}", 0, OK,
      ""},
+    /* camera.direction: framed automatically along it; not with position or target */
+    {"{\"camera\": {\"direction\": [1,-1,-1]}}", 0, OK, ""},
+    {"{\"camera\": {\"direction\": [0,0,-1], \"up\": [1,0,0], \"fov_deg\": 30}}", 0, OK, ""},
+    {"{\"camera\": {\"direction\": [0,0,-1], \"position\": [0,0,5]}}", 0, INV, "camera.direction"},
+    {"{\"camera\": {\"direction\": [0,0,-1], \"target\": [0,0,0]}}", 0, INV, "camera.direction"},
+    {"{\"camera\": {\"direction\": [0,0,0]}}", 0, INV, "camera.direction"},
+    {"{\"camera\": {\"direction\": [0,-3,0]}}", 0, INV, "camera.up"},
+    {"{\"camera\": {\"direction\": [0,0,\"x\"]}}", 0, INV, "camera.direction[2]"},
     {"{\"camera\": {\"position\": [0,0,5], \"target\": [0,0,0], \"fov_deg\": 170}}", 0, INV,
      "camera.fov_deg"},
     {"{\"camera\": {\"position\": [0,0,5], \"target\": [0,0,0], \"fov_deg\": 1}}", 0, INV,
@@ -268,6 +276,8 @@ static int near(double a, double b, double tol)
     return fabs(a - b) <= tol;
 }
 
+#define M_PI_VALUE 3.14159265358979323846
+
 static int is_default_scene(const lucent_scene *s)
 {
     lucent_material marble;
@@ -283,7 +293,11 @@ static int is_default_scene(const lucent_scene *s)
          near(l->direction[0], d, 1e-15) && near(l->direction[1], d, 1e-15) &&
          near(l->direction[2], d, 1e-15) && l->color[0] == 1 && l->color[1] == 1 &&
          l->color[2] == 1 && l->intensity == 1;
-    ok = ok && s->camera.given == 0 && s->camera.fov_deg == 40 && s->camera.up[1] == 1;
+    /* the three-quarter view: from 35 degrees left of +Z and 25 degrees above, looking at the centre */
+    double az = 35 * M_PI_VALUE / 180, el = 25 * M_PI_VALUE / 180;
+    ok = ok && s->camera.given == 0 && s->camera.fov_deg == 40 && s->camera.up[1] == 1 &&
+         near(s->camera.direction[0], sin(az) * cos(el), 1e-15) && near(s->camera.direction[1], -sin(el), 1e-15) &&
+         near(s->camera.direction[2], -cos(az) * cos(el), 1e-15);
     ok = ok && s->width == 512 && s->height == 512 && s->method == LUCENT_METHOD_FIVE &&
          s->samples == 16 && s->projection_size == 512 && s->exposure == 0 &&
          s->format == LUCENT_FORMAT_PNG;
@@ -351,6 +365,10 @@ static void test_values(void)
               s.format == LUCENT_FORMAT_EXR,
           "output settings land in their fields");
     check(!parse("{\"width\": 0}", &s) && s.width == 640, "a rejected document leaves *out as it was");
+    check(parse("{\"camera\": {\"direction\": [0, -3, 4]}}", &s) && s.camera.given == 0 &&
+              s.camera.direction[0] == 0 && near(s.camera.direction[1], -0.6, 1e-15) &&
+              near(s.camera.direction[2], 0.8, 1e-15),
+          "camera.direction: framed automatically (given 0), normalized");
 }
 
 /* Total diffuse reflectance of the dipole (research notes §1.3), used to check the transcription

@@ -89,7 +89,7 @@ static void check_case(lucent_renderer *r, const struct seam_case *c, const char
     for (int k = 0; k < 2; k++) {
         snprintf(json, sizeof json,
                  "{\"mesh\":{\"%s\":\"%s\"},\"material\":{\"preset\":\"marble\"},\"lights\":[{\"direction\":%s}],"
-                 "\"width\":%d,\"height\":%d,\"format\":\"exr\",\"method\":\"%s\"}",
+                 "\"camera\":{\"direction\":[0,0,-1]},\"width\":%d,\"height\":%d,\"format\":\"exr\",\"method\":\"%s\"}",
                  c->mesh ? "builtin" : "file", c->mesh ? c->mesh : bunny, c->light, c->side, c->side,
                  k ? "reference" : "five");
         test_render(r, json, &img[k], NULL);

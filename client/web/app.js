@@ -44,7 +44,12 @@ const SLIDERS = [
   { key: 'azimuth', parent: 'light-sliders', label: 'azimuth (degrees)', scale: linearScale(-180, 180, 1) },
   { key: 'elevation', parent: 'light-sliders', label: 'elevation (degrees)', scale: linearScale(-90, 90, 1) },
   { key: 'intensity', parent: 'light-sliders', label: 'intensity', scale: logScale(0.01, 100, false) },
+  { key: 'view_azimuth', parent: 'view-sliders', label: 'azimuth (degrees)', scale: linearScale(-180, 180, 1) },
+  { key: 'view_elevation', parent: 'view-sliders', label: 'elevation (degrees)', scale: linearScale(-85, 85, 1) },
 ];
+// The daemon's automatic camera: from the front left and above (renderer/scene_parse.c).
+const DEFAULT_VIEW = { view_azimuth: -35, view_elevation: 25 };
+const DRAG_DEGREES_PER_PIXEL = 0.5;
 
 const state = {
   preset: 'skin1',
@@ -55,6 +60,7 @@ const state = {
   azimuth: 90,
   elevation: 0,
   intensity: 4,
+  ...DEFAULT_VIEW,
 };
 const materials = new Map(); // preset name -> {sigma_a, sigma_s_prime, eta}
 const references = new Map(); // scene key -> pixels of a "reference" render
@@ -106,11 +112,30 @@ function showAllSliders() {
   for (const s of SLIDERS) if (s.key === 'scale_mm') $(sliderId(s)).disabled = $('scale-auto').checked;
 }
 
-// The direction the light travels: opposite to where it comes from (azimuth 0 = the camera, +Z).
+const unit = (azimuthDeg, elevationDeg) => {
+  const az = (azimuthDeg * Math.PI) / 180, el = (elevationDeg * Math.PI) / 180;
+  return [Math.cos(el) * Math.sin(az), Math.sin(el), Math.cos(el) * Math.cos(az)];
+};
+const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+const normalized = (v) => v.map((x) => x / Math.hypot(...v));
+const rounded = (v) => v.map((x) => +x.toFixed(4) || 0);
+
+// The camera's basis in the world: back (from the object to the eye), right and up (+Y stays up).
+function viewBasis() {
+  const back = unit(state.view_azimuth, state.view_elevation);
+  const right = normalized(cross([0, 1, 0], back));
+  return { back, right, up: cross(back, right) };
+}
+
+// The way the camera looks: the daemon frames the object along it (camera_dir).
+const cameraDirection = () => rounded(viewBasis().back.map((x) => -x));
+
+// The direction the light travels: opposite to where it comes from, given relative to the camera
+// (azimuth 0 = the camera, 90 its right), so the light turns with the view.
 function lightDirection() {
-  const az = (state.azimuth * Math.PI) / 180, el = (state.elevation * Math.PI) / 180;
-  const from = [Math.cos(el) * Math.sin(az), Math.sin(el), Math.cos(el) * Math.cos(az)];
-  return from.map((x) => +(-x).toFixed(4) || 0);
+  const from = unit(state.azimuth, state.elevation);
+  const { back, right, up } = viewBasis();
+  return rounded([0, 1, 2].map((i) => -(from[0] * right[i] + from[1] * up[i] + from[2] * back[i])));
 }
 
 // Flat query fields of GET /v1/render, in README order; "method" and "samples" last.
@@ -120,6 +145,7 @@ function sceneFields(method) {
   if (state.preset) f.push(['preset', state.preset]);
   else f.push(['sigma_a', state.sigma_a.join(',')], ['sigma_s_prime', state.sigma_s_prime.join(',')], ['eta', state.eta]);
   f.push(['light_dir', lightDirection().join(',')], ['light_intensity', state.intensity]);
+  f.push(['camera_dir', cameraDirection().join(',')]);
   const size = $('size').value.trim();
   f.push(['w', size], ['h', size]);
   if (method !== undefined) f.push(['method', method], ['samples', $('samples').value.trim()]);
@@ -439,6 +465,38 @@ function applyPageQuery() {
   }
 }
 
+// Dragging an image orbits the camera around the object (left-right: azimuth, up-down: elevation);
+// arrow keys on a focused image turn it by 5 degrees.
+function orbit(dAzimuth, dElevation) {
+  state.view_azimuth = ((((state.view_azimuth + dAzimuth + 180) % 360) + 360) % 360) - 180;
+  state.view_elevation = Math.max(-85, Math.min(85, state.view_elevation + dElevation));
+  for (const s of SLIDERS) if (s.key.startsWith('view_')) showSliderValue(s);
+  schedule();
+}
+
+function wireOrbit(img) {
+  let last = null;
+  img.draggable = false;
+  img.tabIndex = 0;
+  img.addEventListener('pointerdown', (e) => {
+    last = [e.clientX, e.clientY];
+    img.setPointerCapture(e.pointerId);
+  });
+  img.addEventListener('pointermove', (e) => {
+    if (!last) return;
+    const [dx, dy] = [e.clientX - last[0], e.clientY - last[1]];
+    last = [e.clientX, e.clientY];
+    orbit(-dx * DRAG_DEGREES_PER_PIXEL, dy * DRAG_DEGREES_PER_PIXEL);
+  });
+  for (const end of ['pointerup', 'pointercancel']) img.addEventListener(end, () => { last = null; });
+  img.addEventListener('keydown', (e) => {
+    const turn = { ArrowLeft: [5, 0], ArrowRight: [-5, 0], ArrowUp: [0, -5], ArrowDown: [0, 5] }[e.key];
+    if (!turn) return;
+    e.preventDefault();
+    orbit(...turn);
+  });
+}
+
 function wire() {
   for (const id of ['mesh', 'method', 'method2', 'samples', 'size']) {
     $(id).addEventListener('change', schedule);
@@ -472,6 +530,7 @@ function wire() {
     const files = e.dataTransfer.files;
     if (files.length) upload(files);
   });
+  for (const id of ['image-a', 'image-b']) wireOrbit($(id));
   $('copy-link').addEventListener('click', copyLink);
   $('token').value = sessionStorage.getItem('lucent-token') || '';
   $('token').addEventListener('change', async () => {

@@ -22,7 +22,7 @@ json_field() {  # json_field FILE KEY [SECOND-MATCH]: the first (or the band's) 
 
 for mesh in '{"builtin":"protrusion"}' "{\"file\":\"$bunny\"}"; do
     name=$(sed 's/.*"builtin":"\([a-z]*\)".*/\1/; s/.*"file".*/bunny/' <<<"$mesh")
-    base="\"mesh\":$mesh,\"material\":{\"preset\":\"marble\"},\"lights\":[{\"direction\":[-1,0,0],\"intensity\":3}],\"width\":$size,\"height\":$size"
+    base="\"mesh\":$mesh,\"material\":{\"preset\":\"marble\"},\"lights\":[{\"direction\":[-1,0,0],\"intensity\":3}],\"camera\":{\"direction\":[0,0,-1]},\"width\":$size,\"height\":$size"
     echo "{$base,\"method\":\"reference\"}" > "$dir/ref.json"
     "$bin" "$dir/ref.json" -o "$dir/ref.exr" --stats > "$dir/ref.stats"
     ref_ms=$(json_field "$dir/ref.stats" total)

@@ -16,7 +16,7 @@ struct mesh_case {
 };
 struct light_case {
     const char *name;
-    const char *direction;  /* the way the light travels; the camera looks along -Z from +Z */
+    const char *direction;  /* the way the light travels; the camera looks along -Z from +Z (but the cube's) */
 };
 
 /* The scene of mesh m (or the OBJ at `file` when m->json is NULL) in a material preset under one
@@ -29,8 +29,9 @@ static lucent_status bench_scene(const struct mesh_case *m, const char *file, co
     char json[1024];
     int n = snprintf(json, sizeof json,
                      "{\"mesh\":%s,\"material\":{\"preset\":\"%s\"},\"lights\":[{\"direction\":%s,\"intensity\":3}],"
-                     "\"width\":%d,\"height\":%d,%s%s}",
-                     m->json ? m->json : "{\"builtin\":\"sphere\"}", material, light->direction, size, size,
+                     "%s\"width\":%d,\"height\":%d,%s%s}",
+                     m->json ? m->json : "{\"builtin\":\"sphere\"}", material, light->direction,
+                     strstr(m->fragment, "\"camera\"") ? "" : "\"camera\":{\"direction\":[0,0,-1]},", size, size,
                      m->fragment, fragment);
     if (n < 0 || (size_t)n >= sizeof json)
         return lucent_fail(err, LUCENT_E_INTERNAL, "", "scene document too long");

@@ -38,6 +38,8 @@ static int measure(lucent_renderer *r, uint32_t triangles, lucent_method method,
     s.method = method;
     s.sampling = sampling;
     s.lights[0].direction[0] = -1.0, s.lights[0].direction[1] = 0.0, s.lights[0].direction[2] = 0.0;
+    /* the paper's set-up: the protrusion seen head-on, lit from the camera's right */
+    s.camera.direction[0] = 0.0, s.camera.direction[1] = 0.0, s.camera.direction[2] = -1.0;
     double *t[T_COUNT];
     for (int k = 0; k < T_COUNT; k++)
         t[k] = calloc((size_t)frames, sizeof(double));

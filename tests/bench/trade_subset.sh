@@ -43,7 +43,7 @@ print(",".join(map(str, sys.argv[1:] + [c["rel_l2"], c["silhouette_band"]["rel_l
 
 echo "case,mode,build,rel_l2,band_rel_l2,noise,mean_ratio" > "$out"
 for mesh in sphere torus protrusion bunny cube; do
-    cam=""
+    cam=',"camera":{"direction":[0,0,-1]}'
     case $mesh in
         bunny) m="{\"file\":\"$bunny\"}" ;;
         cube) m="{\"file\":\"$dir/cube.obj\"}"; cam=',"camera":{"position":[2.6,2,4.4],"target":[0,0,0]}' ;;
