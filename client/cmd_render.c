@@ -68,7 +68,7 @@ static int resolve_mesh(struct http_client *c, json_t *scene, lc_error *err)
         /* Most likely a misspelt built-in name rather than a file. */
         char why[sizeof err->message];
         snprintf(why, sizeof why, "%s", err->message);
-        return lc_fail(err, rc, "mesh %s: not a built-in mesh (sphere, torus, protrusion) and %s", path, why);
+        return lc_fail(err, rc, "mesh %s: not a built-in mesh (sphere, torus, protrusion, bunny) and %s", path, why);
     }
     if (rc != LC_OK)
         return rc;

@@ -71,7 +71,7 @@ static const struct { const char *path; enum kind kind; } rules[F_COUNT] = {
 };
 
 const struct cli_option scene_options[] = {
-    {"mesh", 0, "NAME|FILE|ID", "sphere, torus or protrusion; a local OBJ/PLY/STL/glTF/GLB file (uploaded once); or an uploaded mesh's id", F_MESH},
+    {"mesh", 0, "NAME|FILE|ID", "sphere, torus, protrusion or bunny; a local OBJ/PLY/STL/glTF/GLB file (uploaded once); or an uploaded mesh's id", F_MESH},
     {"mesh-triangles", 0, "N", "built-in mesh density: 0 = default, or 1000..2000000", F_MESH_TRIANGLES},
     {"scale-mm", 0, "MM", "millimetres per scene unit (default: the object is 50 mm across)", F_SCALE_MM},
     {"preset", 0, "NAME", "measured material (lucent materials lists them); default marble", F_PRESET},
@@ -238,7 +238,7 @@ static int is_mesh_id(const char *s)
 
 static int set_mesh(json_t *scene, const char *value, lc_error *err)
 {
-    static const char *const builtins[] = {"sphere", "torus", "protrusion"};
+    static const char *const builtins[] = {"sphere", "torus", "protrusion", "bunny"};
     const char *source = "file";
     for (size_t i = 0; i < sizeof builtins / sizeof builtins[0]; i++)
         if (strcmp(value, builtins[i]) == 0)

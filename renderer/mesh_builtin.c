@@ -1,6 +1,7 @@
-/* mesh_builtin.c - the procedural meshes a scene can name instead of a file: a sphere, a torus and
- * the paper's failure case, a sphere with a nose toward the camera, each at a requested density. */
+/* mesh_builtin.c - the meshes a scene can name instead of a file: a sphere, a torus and the paper's
+ * failure case, a sphere with a nose toward +Z, each at a requested density; and the Stanford bunny. */
 #include "mesh.h"
+#include "stanford_bunny.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -14,7 +15,7 @@
 #define TORUS_MINOR_RADIUS 0.4
 
 /* The protrusion's radius is 1 + NOSE_HEIGHT * exp(-theta^2 / (2 NOSE_WIDTH^2)), theta measured
- * from +Z: a nose toward the default camera whose flanks face sideways, the paper's failure case. */
+ * from +Z: a nose toward the head-on camera whose flanks face sideways, the paper's failure case. */
 #define NOSE_HEIGHT 0.55
 #define NOSE_WIDTH 0.28
 
@@ -338,17 +339,33 @@ static lucent_status build_torus(uint32_t triangles, lucent_mesh **out, lucent_e
     return finish_or_free(m, out, err);
 }
 
+/* ---- the Stanford bunny ---- */
+
+/* The scan as the npm package has it (watertight: mesh_finish finds it closed); smooth normals from mesh_finish. */
+static lucent_status build_bunny(uint32_t triangles, lucent_mesh **out, lucent_error *err)
+{
+    (void)triangles;
+    struct lucent_mesh *m = mesh_alloc(stanford_bunny_vertex_count, stanford_bunny_triangle_count, 0);
+    if (!m)
+        return lucent_fail(err, LUCENT_E_NOMEM, "mesh.builtin", "out of memory for the bunny");
+    memcpy(m->positions, stanford_bunny_positions, 3 * sizeof(float) * stanford_bunny_vertex_count);
+    memcpy(m->indices, stanford_bunny_triangles, 3 * sizeof(uint32_t) * stanford_bunny_triangle_count);
+    return finish_or_free(m, out, err);
+}
+
 /* ---- lookup ---- */
 
 typedef struct builtin_shape {
     const char *name;
     lucent_status (*build)(uint32_t triangles, lucent_mesh **out, lucent_error *err);
+    int fixed; /* a scanned mesh: one density, mesh.triangles refused */
 } builtin_shape;
 
 static const builtin_shape SHAPES[] = {
-    {"sphere", build_sphere},
-    {"torus", build_torus},
-    {"protrusion", build_protrusion},
+    {"sphere", build_sphere, 0},
+    {"torus", build_torus, 0},
+    {"protrusion", build_protrusion, 0},
+    {"bunny", build_bunny, 1},
 };
 #define SHAPE_COUNT (sizeof SHAPES / sizeof SHAPES[0])
 
@@ -379,6 +396,10 @@ lucent_status lucent_mesh_builtin(const char *name, uint32_t triangles, lucent_m
     const builtin_shape *shape = find_shape(name);
     if (!shape)
         return fail_unknown_shape(name, err);
+    if (shape->fixed && triangles != 0)
+        return lucent_fail(err, LUCENT_E_INVALID, "mesh.triangles",
+                           "the %s is a scan of %u triangles and has no other density; omit mesh.triangles",
+                           shape->name, stanford_bunny_triangle_count);
     if (triangles == 0)
         triangles = DEFAULT_TRIANGLES;
     if (triangles < LUCENT_MIN_BUILTIN_TRIANGLES || triangles > LUCENT_MAX_BUILTIN_TRIANGLES)

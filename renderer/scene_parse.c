@@ -63,7 +63,8 @@ static const range R_G = {-LUCENT_MAX_G, LUCENT_MAX_G, 0, "sigma_s = sigma_s' / 
 #define MIN_UP_SINE 1.0e-9
 
 /* Name tables are indexed by the enum they map to and end with NULL. */
-static const char *const builtin_names[] = {"sphere", "torus", "protrusion", NULL};
+static const char *const builtin_names[] = {"sphere", "torus", "protrusion", "bunny", NULL};
+#define SCANNED_BUILTIN "bunny" /* one density: mesh.triangles does not apply */
 static const char *const light_type_names[] = {
     [LUCENT_LIGHT_DIRECTIONAL] = "directional", [LUCENT_LIGHT_POINT] = "point", NULL};
 static const char *const method_names[] = {
@@ -427,6 +428,9 @@ static lucent_status parse_mesh_builtin(json_t *obj, lucent_mesh_ref *m, lucent_
         st = get_int(obj, "mesh", "triangles", &R_TRIANGLES, &triangles, err);
     if (st != LUCENT_OK)
         return st;
+    if (triangles > 0 && strcmp(builtin_names[index], SCANNED_BUILTIN) == 0)
+        return lucent_fail(err, LUCENT_E_INVALID, "mesh.triangles",
+                           "the %s is a scan with one density; omit mesh.triangles", SCANNED_BUILTIN);
     if (triangles > 0 && (uint32_t)triangles < LUCENT_MIN_BUILTIN_TRIANGLES)
         return lucent_fail(err, LUCENT_E_INVALID, "mesh.triangles",
                            "must be 0 (default density) or at least %u (got %d)", LUCENT_MIN_BUILTIN_TRIANGLES,

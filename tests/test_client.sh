@@ -165,7 +165,7 @@ check "no output file and no temp file after server errors" eval '[ ! -e "$work/
 run render --mesh "$work/missing.obj" -o "$work/x.png"
 check "missing local mesh file: exit 4, names it" expect 4 "cannot open $work/missing.obj"
 run render --mesh sphre -o "$work/x.png"
-check "misspelt built-in: exit 4, lists the built-ins" expect 4 'not a built-in mesh \(sphere, torus, protrusion\)'
+check "misspelt built-in: exit 4, lists the built-ins" expect 4 'not a built-in mesh \(sphere, torus, protrusion, bunny\)'
 run render --scene "$work/nope.json" -o "$work/x.png"
 check "missing --scene file: exit 4" expect 4 "cannot open $work/nope.json"
 run render --mesh sphere --size 64x64 -o "$work/no/such/dir/x.png"

@@ -244,6 +244,11 @@ check "the same files in the other order, other field names and types: $c2, the 
     [ "$c2" = 200 -a "$(json_field "$work/form2" '["id"]' 2>/dev/null)" = "$form_id" ]
 c3=$(req "$work/form.png" GET "$A/v1/render?mesh=${form_id:-none}&w=48&h=48&$fast")
 check "the form's mesh renders ($c3)" pngs "$work/form.png:48:48"
+c=$(req "$work/bunny.png" GET "$A/v1/render?mesh=bunny&w=48&h=48&$fast")
+c2=$(req "$work/e" GET "$A/v1/render?mesh=bunny&mesh_triangles=5000&w=48&h=48&$fast")
+check "the built-in Stanford bunny renders ($c); at another density it is a 400 naming mesh_triangles ($c2)" \
+    eval 'pngs "$work/bunny.png:48:48" && problem "$work/e" 400 mesh_triangles'
+
 c=$(req "$work/form3" POST "$A/v1/meshes" -F "mesh=@$models/PLY/cube.ply")
 check "one file in a form ($c) is that file: id = sha256 of its bytes" \
     [ "$c" = 200 -a "$(json_field "$work/form3" '["id"]' 2>/dev/null)" = "$(sha256sum "$models/PLY/cube.ply" | cut -c1-64)" ]

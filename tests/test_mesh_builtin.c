@@ -1,4 +1,4 @@
-/* test_mesh_builtin.c - checks the procedural meshes (sphere, torus, protrusion) and the proxies
+/* test_mesh_builtin.c - checks the procedural meshes (sphere, torus, protrusion), the bunny and the proxies
  * made from them: triangle counts, closed topology, outward unit normals, centring, limits, errors. */
 #include "lucent.h"
 #include "mesh.h"
@@ -265,6 +265,26 @@ static void check_errors(void)
     lucent_mesh_free(mesh);
 }
 
+/* The scanned bunny: the npm package's 1839 vertices and 3674 triangles, sound like every builtin, at one
+ * density only; a request for another is refused, naming the field. */
+static void check_bunny(void)
+{
+    lucent_mesh *mesh = NULL;
+    lucent_error err = {0};
+    lucent_status st = lucent_mesh_builtin("bunny", 0, &mesh, &err);
+    if (!test_check(st == LUCENT_OK && mesh->vertex_count == 1839 && mesh->triangle_count == 3674,
+                    "bunny: %s, %u vertices, %u triangles (the package's 1839 and 3674) %s", lucent_status_name(st),
+                    mesh ? mesh->vertex_count : 0, mesh ? mesh->triangle_count : 0, err.message))
+        return;
+    check_common("bunny", mesh, 0);
+    test_check(!mesh->convex && mesh->closed, "bunny: not convex, closed (the package's low-resolution scan is watertight)");
+    lucent_mesh_free(mesh);
+    mesh = NULL;
+    st = lucent_mesh_builtin("bunny", 20000, &mesh, &err);
+    test_check(st == LUCENT_E_INVALID && strcmp(err.field, "mesh.triangles") == 0 && !mesh,
+               "bunny at 20000 triangles: %s, field \"%s\": %s", lucent_status_name(st), err.field, err.message);
+}
+
 /* Proxies keep the source's frame exactly and only use source vertices. */
 static void check_proxy(const char *name, uint32_t request, uint32_t target)
 {
@@ -365,6 +385,7 @@ int main(void)
             check_builtin(names[s], requests[r]);
     check_count_sweep();
     check_errors();
+    check_bunny();
     check_proxy("sphere", 68000, 4096);
     check_proxy("protrusion", 68000, 4096);
     check_proxy("torus", 20000, 2000);

@@ -155,6 +155,8 @@ static const parse_case cases[] = {
      "camera.up"},
     {"{\"camera\": {\"position\": [0,0,5], \"target\": [0,0,0], \"up\": [1e-6,0,-1]}}", 0, OK,
      ""},
+    {"{\"mesh\": {\"builtin\": \"bunny\"}}", 0, OK, ""},
+    {"{\"mesh\": {\"builtin\": \"bunny\", \"triangles\": 5000}}", 0, INV, "mesh.triangles"},
     /* camera.direction: framed automatically along it; not with position or target */
     {"{\"camera\": {\"direction\": [1,-1,-1]}}", 0, OK, ""},
     {"{\"camera\": {\"direction\": [0,0,-1], \"up\": [1,0,0], \"fov_deg\": 30}}", 0, OK, ""},

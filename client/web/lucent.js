@@ -9,7 +9,7 @@
 //
 // Attributes: every data-lucent-NAME becomes the query field NAME of GET /v1/render, dashes turned into
 // underscores (the README's "Query fields" table lists them all), checked by the server. The common ones:
-//   data-lucent-mesh             sphere | torus | protrusion, or the 64-hex-digit id of an uploaded mesh
+//   data-lucent-mesh             sphere | torus | protrusion | bunny, or the 64-hex-digit id of an uploaded mesh
 //   data-lucent-preset           apple, chicken1, chicken2, cream, ketchup, marble, potato, skimmilk, skin1,
 //                                skin2, spectralon, wholemilk
 //   data-lucent-sigma-a, data-lucent-sigma-s-prime   "r,g,b" in mm^-1, instead of a preset
