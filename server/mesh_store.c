@@ -362,40 +362,66 @@ static int index_existing(struct mesh_store *s, const char *id)
     return entry_read(s, id, mac, &info) && index_learn_locked(s, id, mac, &info);
 }
 
-/* Every complete entry on disk with its bytes and last use, and their total. Under the store lock. */
-static lucent_status census(const struct mesh_store *s, struct census_entry **out, size_t *count, uint64_t *total,
-                            lucent_error *err)
+typedef char entry_id[ID_LEN + 1];
+
+/* The ids every <id>.json of the store directory names (after `after`, when given), in directory order;
+ * *ids is malloc'd, the caller's. */
+static lucent_status entry_ids(const struct mesh_store *s, const char *after, entry_id **ids, size_t *count,
+                               lucent_error *err)
 {
-    char id[ID_LEN + 1], mesh_path[PATH_MAX], meta_path[PATH_MAX];
-    struct census_entry *list = NULL;
+    entry_id id, *list = NULL;
     size_t n = 0, cap = 0;
-    *total = 0;
     DIR *d = opendir(s->dir);
     if (!d)
         return store_io_error("cannot list the mesh store", err);
     lucent_status st = LUCENT_OK;
     for (struct dirent *e; st == LUCENT_OK && (e = readdir(d));) {
-        struct stat mesh_st, meta_st;
-        if (!entry_name(e->d_name, "json", id))
+        if (!entry_name(e->d_name, "json", id) || (after && strcmp(id, after) <= 0))
             continue;
-        entry_path(s, id, "lmesh", mesh_path);
-        entry_path(s, id, "json", meta_path);
-        if (stat(meta_path, &meta_st) != 0 || stat(mesh_path, &mesh_st) != 0)
-            continue; /* half an entry: left for the next open to clean */
         if (n == cap) {
-            struct census_entry *grown = realloc(list, (cap = cap ? 2 * cap : 64) * sizeof *list);
+            entry_id *grown = realloc(list, (cap = cap ? 2 * cap : 256) * sizeof *list);
             if (!grown) {
                 st = lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory listing the mesh store");
                 break;
             }
             list = grown;
         }
-        memcpy(list[n].id, id, sizeof id);
+        memcpy(list[n++], id, sizeof id);
+    }
+    closedir(d);
+    if (st != LUCENT_OK) {
+        free(list);
+        return st;
+    }
+    *ids = list;
+    *count = n;
+    return LUCENT_OK;
+}
+
+/* Every complete entry on disk with its bytes and last use, and their total. Under the store lock. */
+static lucent_status census(const struct mesh_store *s, struct census_entry **out, size_t *count, uint64_t *total,
+                            lucent_error *err)
+{
+    char mesh_path[PATH_MAX], meta_path[PATH_MAX];
+    entry_id *ids = NULL;
+    size_t n_ids = 0, n = 0;
+    *total = 0;
+    lucent_status st = entry_ids(s, NULL, &ids, &n_ids, err);
+    struct census_entry *list = st == LUCENT_OK ? malloc((n_ids ? n_ids : 1) * sizeof *list) : NULL;
+    if (st == LUCENT_OK && !list)
+        st = lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory listing the mesh store");
+    for (size_t i = 0; st == LUCENT_OK && i < n_ids; i++) {
+        struct stat mesh_st, meta_st;
+        entry_path(s, ids[i], "lmesh", mesh_path);
+        entry_path(s, ids[i], "json", meta_path);
+        if (stat(meta_path, &meta_st) != 0 || stat(mesh_path, &mesh_st) != 0)
+            continue; /* half an entry: left for the next open to clean */
+        memcpy(list[n].id, ids[i], sizeof ids[i]);
         list[n].disk_bytes = (uint64_t)mesh_st.st_size + (uint64_t)meta_st.st_size;
         list[n].last_used = meta_st.st_mtim;
         *total += list[n++].disk_bytes;
     }
-    closedir(d);
+    free(ids);
     if (st != LUCENT_OK || !out)
         free(list);
     else
@@ -842,32 +868,17 @@ static int id_order(const void *a, const void *b)
 lucent_status mesh_store_list(struct mesh_store *s, const char *after, size_t limit, struct mesh_listing **out,
                               size_t *count, int *more, lucent_error *err)
 {
-    char id[ID_LEN + 1], mac[STORE_MAC_HEX + 1];
-    char(*ids)[ID_LEN + 1] = NULL;
-    size_t n = 0, cap = 0;
+    char mac[STORE_MAC_HEX + 1];
+    entry_id *ids = NULL;
+    size_t n = 0;
     *out = NULL;
     *count = 0;
     *more = 0;
-    DIR *d = opendir(s->dir);
-    if (!d)
-        return store_io_error("cannot list the mesh store", err);
-    lucent_status st = LUCENT_OK;
-    for (struct dirent *e; (e = readdir(d));) {
-        if (!entry_name(e->d_name, "json", id) || (after && strcmp(id, after) <= 0))
-            continue;
-        if (n == cap) {
-            void *grown = realloc(ids, (cap = cap ? 2 * cap : 256) * sizeof *ids);
-            if (!grown) {
-                st = lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory listing the mesh store");
-                break;
-            }
-            ids = grown;
-        }
-        memcpy(ids[n++], id, sizeof id);
-    }
-    closedir(d);
-    struct mesh_listing *page = st == LUCENT_OK ? calloc(limit ? limit : 1, sizeof *page) : NULL;
-    if (st == LUCENT_OK && !page)
+    lucent_status st = entry_ids(s, after, &ids, &n, err);
+    if (st != LUCENT_OK)
+        return st;
+    struct mesh_listing *page = calloc(limit ? limit : 1, sizeof *page);
+    if (!page)
         st = lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory listing the mesh store");
     if (st == LUCENT_OK) {
         if (n > 1)
