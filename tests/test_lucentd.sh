@@ -260,6 +260,16 @@ c=$(req "$work/e" POST "$A/v1/meshes" -F "mesh=@$box/BoxTextured.gltf" -F "buffe
 check "a file named ../BoxTextured0.bin: $c" problem_with "$work/e" 400 body '\.\.'
 c=$(req "$work/e" POST "$A/v1/meshes" -H 'Content-Type: multipart/form-data; boundary=xyz' --data-binary 'not a form')
 check "a body that is no multipart/form-data: $c" problem "$work/e" 400 body
+# Hostile forms: cut off before the closing boundary, 65 parts, no boundary parameter.
+part() { printf -- '--XB\r\nContent-Disposition: form-data; name="f"; filename="%s"\r\n\r\n%s\r\n' "$1" "$2"; }
+{ part a.gltf '{}'; printf -- '--XB\r\nContent-Disposition: form-data; name="f"; filename="b.bin"\r\n\r\nxx'; } >"$work/cut.form"
+c1=$(req "$work/e1" POST "$A/v1/meshes" -H 'Content-Type: multipart/form-data; boundary=XB' --data-binary @"$work/cut.form")
+{ for i in $(seq 1 65); do part "f$i.bin" x; done; printf -- '--XB--\r\n'; } >"$work/many.form"
+c2=$(req "$work/e2" POST "$A/v1/meshes" -H 'Content-Type: multipart/form-data; boundary=XB' --data-binary @"$work/many.form")
+c3=$(req "$work/e3" POST "$A/v1/meshes" -H 'Content-Type: multipart/form-data' --data-binary @"$work/many.form")
+check "a form cut short ($c1), one of 65 files ($c2), one without a boundary ($c3): 400, 400, 415, the daemon alive" \
+    eval 'problem "$work/e1" 400 body && problem "$work/e2" 400 body && problem "$work/e3" 415 Content-Type &&
+          [ "$(curl -s -o /dev/null -w "%{http_code}" "$A/healthz")" = 200 ]'
 # assimp-testmodels' glTFs that name files, each sent with them (tests/upload_models.py): none refused for
 # a missing file but MissingBin, whose buffer is missing on purpose (two are over this daemon's 64 KiB
 # body limit; with the default limit 19 of the 36 are accepted, the rest are broken on purpose)
