@@ -10,7 +10,6 @@
 #include <stdio.h>
 #include <string.h>
 
-#define PI 3.14159265358979323846
 #define KERNEL_ENERGY 0.95
 #define AUTO_MIN_PROJECTION 64
 #define AUTO_MAX_PROJECTION 512

@@ -1,10 +1,10 @@
 /* dipole.c - the classic dipole of Jensen et al. 2001 and the tables the scatter pass samples with.
  * Written for the extremes: sigma_a = 0 (sigma_tr = 0), eta = 1, coefficients from 1e-6 to 1e5 mm^-1. */
 #include "dipole.h"
+#include "linalg.h"
 
 #include <math.h>
 
-#define PI 3.14159265358979323846
 
 double dipole_fdr(double eta)
 {

@@ -9,7 +9,6 @@
 #include <math.h>
 #include <string.h>
 
-#define PI 3.14159265358979323846
 #define DEG (PI / 180.0)
 #define GOLDEN_ANGLE 2.39996322972865332
 

@@ -1,5 +1,6 @@
 /* mesh_builtin.c - the meshes a scene can name instead of a file: a sphere, a torus and the paper's
  * failure case, a sphere with a nose toward +Z, each at a requested density; and the Stanford bunny. */
+#include "linalg.h"
 #include "mesh.h"
 #include "stanford_bunny.h"
 
@@ -18,8 +19,6 @@
  * from +Z: a nose toward the head-on camera whose flanks face sideways, the paper's failure case. */
 #define NOSE_HEIGHT 0.55
 #define NOSE_WIDTH 0.28
-
-static const double PI = 3.14159265358979323846;
 
 /* ---- choosing a tessellation for a triangle count ---- */
 

@@ -1,6 +1,7 @@
 /* mesh_cache.c - a small LRU of GPU-resident meshes. A file's key includes its size and mtime so an
  * edited file is reloaded; builtins are keyed by name and triangle count. */
 #include "mesh_cache.h"
+#include "clock_ms.h"
 
 #include <meshoptimizer.h>
 #include <stdio.h>
@@ -8,13 +9,6 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
 
 static lucent_status mesh_key(const lucent_mesh_ref *ref, char *key, size_t cap, lucent_error *err)
 {

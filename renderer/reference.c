@@ -1,6 +1,7 @@
 /* reference.c - the CPU ground truth of the dipole model: ray-cast visible points, irradiance points
  * spread evenly over the whole surface with shadow rays, and the sum of their flux times R_d(r). */
 #include "reference.h"
+#include "clock_ms.h"
 
 #include "bvh.h"
 #include "reference_single.h"
@@ -14,7 +15,6 @@
 #include <time.h>
 #include <unistd.h>
 
-#define PI 3.14159265358979323846
 /* frac(j / phi): the second coordinate of each point; with the first one stratified along the
  * cumulative area this makes a Fibonacci-like lattice inside every triangle. */
 #define GOLDEN_FRACTION 0.61803398874989484820
@@ -72,13 +72,6 @@ struct context {
     lucent_image *out;
     const atomic_int *cancel;
 };
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
 /* ---- threads: items are handed out in chunks; each item's result depends only on the item ---- */
 

@@ -8,7 +8,6 @@
 #include <float.h>
 #include <math.h>
 
-#define PI 3.14159265358979323846
 /* Stratified distances along the refracted view ray, per channel. */
 #define PATH_SAMPLES 16
 /* Rays start this far (times the mesh radius) off the surface so they miss their own triangle. */

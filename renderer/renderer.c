@@ -1,6 +1,7 @@
 /* renderer.c - the warm renderer: one Vulkan context, fixed pipelines, size-dependent targets and
  * cached meshes, and lucent_render(), which records and runs the four passes of one frame. */
 #include "auto_plan.h"
+#include "clock_ms.h"
 #include "frame_record.h"
 #include "json_text.h"
 #include "reference.h"
@@ -24,13 +25,6 @@ struct lucent_renderer {
     atomic_int cancel;        /* set by lucent_render_cancel from any thread */
     int verbose;
 };
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
 
 lucent_renderer *lucent_renderer_create(const lucent_renderer_desc *desc, lucent_error *err)
 {

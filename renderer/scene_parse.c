@@ -2,6 +2,7 @@
  * Nothing is clamped or guessed: every wrong, unknown or out-of-range value is an error naming its JSON path. */
 #define _POSIX_C_SOURCE 200809L
 #include "lucent.h"
+#include "linalg.h"
 
 #include <jansson.h>
 #include <math.h>
@@ -789,7 +790,7 @@ void lucent_scene_defaults(lucent_scene *scene)
     normalize3(key_light, scene->lights[0].direction);
     scene->light_count = 1;
     scene->camera.up[1] = 1.0;
-    const double deg = 3.14159265358979323846 / 180.0;
+    const double deg = PI / 180.0;
     double azimuth = DEFAULT_VIEW_AZIMUTH_DEG * deg, elevation = DEFAULT_VIEW_ELEVATION_DEG * deg;
     scene->camera.direction[0] = sin(azimuth) * cos(elevation);
     scene->camera.direction[1] = -sin(elevation);

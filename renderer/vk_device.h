@@ -5,6 +5,7 @@
 #define LUCENT_VK_DEVICE_H
 
 #include "lucent.h"
+#include "vk_check.h"
 
 #include <pthread.h>
 #include <vulkan/vulkan.h>
@@ -27,21 +28,6 @@ struct vk_device {
     int lost;                    /* no more renderers get it; destroyed when the last one releases it */
     pthread_mutex_t queue_lock;  /* vkQueueSubmit needs external synchronization */
 };
-
-const char *vk_result_name(VkResult r);
-
-/* VK_TRY is the one way a VkResult becomes a lucent_error. Needs `lucent_status st` and a
- * `fail:` label in the caller. */
-#define VK_TRY(call, err)                                                                       \
-    do {                                                                                        \
-        VkResult vk_try_r_ = (call);                                                            \
-        if (vk_try_r_ != VK_SUCCESS) {                                                          \
-            st = lucent_fail((err), LUCENT_E_VULKAN, "", "%s failed: %s (%s:%d)", #call,        \
-                             vk_result_name(vk_try_r_), __FILE__, __LINE__);                    \
-            goto fail;                                                                          \
-        }                                                                                       \
-    } while (0)
-
 
 /* Finds or creates the device for a request: a discrete GPU, else an integrated one, else any
  * (lavapipe); a non-empty request forces the first device whose name contains it. */

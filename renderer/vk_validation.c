@@ -1,6 +1,7 @@
 /* vk_validation.c - opt-in Vulkan validation for development and the test suite; off in production,
  * where the layer costs time and may not be installed. */
 #include "vk_validation.h"
+#include "vk_check.h"
 
 #include <stdio.h>
 #include <stdlib.h>

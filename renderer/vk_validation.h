@@ -3,7 +3,9 @@
 #ifndef LUCENT_VK_VALIDATION_H
 #define LUCENT_VK_VALIDATION_H
 
-#include "vk_device.h"
+#include "lucent.h"
+
+#include <vulkan/vulkan.h>
 
 /* Adds the layer and VK_EXT_debug_utils to an instance about to be created, when wanted. */
 void vk_validation_request(VkInstanceCreateInfo *ici);
