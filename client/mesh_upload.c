@@ -51,6 +51,22 @@ static int post_bytes(struct http_client *c, const char *path, const char *data,
     return post_upload(c, path, &rq, answer, err);
 }
 
+/* Whether a name the glTF gives stays in its folder or below: a relative path without empty, "." or ".."
+ * segments or backslashes (what the daemon accepts as a file name). */
+static int relative_below(const char *name)
+{
+    if (strchr(name, '\\'))
+        return 0;
+    for (const char *seg = name;; seg++) {
+        size_t n = strcspn(seg, "/");
+        if (n == 0 || (n == 1 && seg[0] == '.') || (n == 2 && seg[0] == '.' && seg[1] == '.'))
+            return 0;
+        seg += n;
+        if (!*seg)
+            return 1;
+    }
+}
+
 /* The files a glTF document names (buffers and images other than data: URIs), percent-decoded, as a
  * JSON array of strings; an empty array for anything that is not such a document. */
 static int gltf_named_files(struct http_client *c, const char *path, const char *data, size_t len, json_t **names,
@@ -68,7 +84,7 @@ static int gltf_named_files(struct http_client *c, const char *path, const char 
             if (!uri || strncmp(uri, "data:", 5) == 0)
                 continue;
             char *name = curl_easy_unescape(c->curl, uri, 0, NULL);
-            int outside = !name || name[0] == '/' || strstr(name, "..") || strchr(name, '\\');
+            int outside = !name || !relative_below(name);
             if (outside) {
                 lc_fail(err, LC_E_USAGE, "%s names \"%s\", which is not in its folder or below it; Lucent sends "
                         "only those files with a glTF", path, uri);

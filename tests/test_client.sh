@@ -128,6 +128,10 @@ mkdir -p "$work/lonely" && cp "$gltf_dir/BoxTextured.gltf" "$work/lonely/"
 run meshes upload "$work/lonely/BoxTextured.gltf"
 check "a glTF whose buffer is missing beside it: exit 4 naming the file, nothing sent" \
     eval 'expect 4 "BoxTextured0.bin" && [ $(( $(posts "$A_log") - before )) = 1 ]'
+sed 's|"BoxTextured0.bin"|"../BoxTextured0.bin"|' "$gltf_dir/BoxTextured.gltf" >"$work/lonely/up.gltf"
+run meshes upload "$work/lonely/up.gltf"
+check "a glTF naming a file outside its folder: exit 2, nothing sent" \
+    eval 'expect 2 "not in its folder or below it" && [ $(( $(posts "$A_log") - before )) = 1 ]'
 
 # --scene with overrides: the result equals the same scene given by flags alone.
 cat >"$work/scene.json" <<JSON

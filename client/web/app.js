@@ -478,6 +478,7 @@ function wireOrbit(img) {
   let last = null;
   img.draggable = false;
   img.tabIndex = 0;
+  img.title = 'Drag to orbit the camera (arrow keys when the image has focus)';
   img.addEventListener('pointerdown', (e) => {
     last = [e.clientX, e.clientY];
     img.setPointerCapture(e.pointerId);
