@@ -1,5 +1,5 @@
-/* frame_uniforms.h - C mirror of the std140 block in shaders/frame.glsl; keep the two in step.
- * Filled once per frame by frame_setup.c, read by the projection and scatter shaders. */
+/* frame_uniforms.h - C mirror of the std140 block in shaders/frame.glsl (ctest frame_layout holds the two
+ * together). Filled once per frame by frame_plan.c, read by the projection and scatter shaders. */
 #ifndef LUCENT_FRAME_UNIFORMS_H
 #define LUCENT_FRAME_UNIFORMS_H
 
