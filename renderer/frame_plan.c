@@ -464,5 +464,12 @@ lucent_status frame_plan_build(const lucent_scene *scene, const struct lucent_me
     u->params[1] = (float)plan->scale_mm;
     u->params[2] = (float)(proxy_tolerance + mesh->radius * 1e-5);
     u->params[3] = (float)scene->light_count;
+    plan->light_count = scene->light_count;
+    plan->gather_owned = frame_far_views(scene, plan) > 1 && plan->scatter_samples > 0;
+    plan->cull_back_faces = mesh->closed;
+    plan->cull_camera = mesh->closed && plan->camera_outside;
+    plan->sampling = scene->sampling;
+    plan->fallback = scene->fallback;
+    plan->single_scattering = scene->single_scattering;
     return LUCENT_OK;
 }

@@ -47,6 +47,15 @@ struct frame_plan {
     double scale_mm;                        /* resolved millimetres per scene unit */
     const char *shadow_reason[LUCENT_MAX_LIGHTS];  /* why light l has or has no shadow map */
     const char *transmission_reason[LUCENT_MAX_LIGHTS];  /* why light l has or has no light view */
+    /* What the passes draw, decided here so that a backend records a frame from the plan alone. */
+    int light_count;
+    int gather_owned;       /* the far annulus is gathered over every view's share (frame_far_views > 1) */
+    int cull_back_faces;    /* a closed mesh: the projection and shadow views, outside the bounding
+                             * sphere, never see its back faces */
+    int cull_camera;        /* ... nor does the camera, when it is outside the sphere too */
+    lucent_sampling sampling;
+    lucent_fallback fallback;
+    int single_scattering;
 };
 
 /* A light gets a light view (transmission) when more than FRAME_LIGHT_VIEW_SHARE of its entering light

@@ -253,8 +253,8 @@ static void record_scatter(const struct frame_gpu *gpu, VkPipeline far, VkPipeli
                          &to_host, 0, NULL, 0, NULL);
 }
 
-lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, const struct frame_plan *plan,
-                           const struct gpu_mesh *gm, lucent_error *err)
+lucent_status frame_record(const struct frame_gpu *gpu, const struct frame_plan *plan, const struct gpu_mesh *gm,
+                           lucent_error *err)
 {
     lucent_status st = LUCENT_OK;
     VkCommandBuffer cmd = gpu->ctx->cmd;
@@ -263,21 +263,18 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
     VkPipeline front, sides = VK_NULL_HANDLE, lights = VK_NULL_HANDLE, far = VK_NULL_HANDLE, filter = VK_NULL_HANDLE;
     VkPipeline compose;
     int five = plan->view_count > 1;
-    int owned = frame_far_views(s, plan) > 1 && plan->scatter_samples > 0;
-    /* Projection and shadow views look from outside the bounding sphere: on a closed mesh their
-     * back faces are always hidden. The camera may be inside. */
-    int cull = gm->mesh->closed, cull_camera = cull && plan->camera_outside;
+    int owned = plan->gather_owned, cull = plan->cull_back_faces;
     pipelines_begin_frame(gpu->pipes);
-    st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_FRONT, s->light_count, plan->shadow_mask,
+    st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_FRONT, plan->light_count, plan->shadow_mask,
                               cull, &front, err);
     if (st == LUCENT_OK && five)
-        st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_SIDES, s->light_count,
+        st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_SIDES, plan->light_count,
                                   plan->shadow_mask, cull, &sides, err);
     if (st == LUCENT_OK && plan->view_count > FRAME_CAMERA_VIEWS)
-        st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_LIGHTS, s->light_count,
+        st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_LIGHTS, plan->light_count,
                                   plan->shadow_mask, cull, &lights, err);
     struct scatter_variant variant = {SCATTER_FAR, plan->far_block, plan->scatter_samples, plan->view_count,
-                                      s->sampling, s->fallback, s->single_scattering};
+                                      plan->sampling, plan->fallback, plan->single_scattering};
     if (st == LUCENT_OK && plan->scatter_samples)
         st = pipelines_scatter(gpu->ctx, gpu->pipes, &variant, &far, err);
     /* Blocks of one pixel have no near disc: their far part holds the point's own light, which the
@@ -320,7 +317,7 @@ lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, c
         record_mips(gpu, &t->projection, drawn, t->projection.levels, t->projection_size, t->side_size, side_views);
     }
     stamp(gpu, TS_PROJECTION);
-    record_gbuffer(gpu, plan, &gm->full, cull_camera);
+    record_gbuffer(gpu, plan, &gm->full, plan->cull_camera);
     stamp(gpu, TS_GBUFFER);
     record_scatter(gpu, far, filter, compose, (uint32_t)plan->far_block);
     stamp(gpu, TS_SCATTER);

@@ -21,7 +21,7 @@ struct frame_gpu {
 
 /* Records into gpu->ctx->cmd (not submitted). No earlier frame may still be executing: pipelines it
  * used may be destroyed to make room for this frame's. */
-lucent_status frame_record(const struct frame_gpu *gpu, const lucent_scene *s, const struct frame_plan *plan,
-                           const struct gpu_mesh *gm, lucent_error *err);
+lucent_status frame_record(const struct frame_gpu *gpu, const struct frame_plan *plan, const struct gpu_mesh *gm,
+                           lucent_error *err);
 
 #endif

@@ -364,7 +364,7 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
         return st;
     memcpy(r->uniforms.mapped, &plan->uniforms, sizeof plan->uniforms);
     struct frame_gpu gpu = {&r->ctx, &r->pipes, &r->targets, r->queries};
-    if ((st = frame_record(&gpu, s, plan, gm, err)))
+    if ((st = frame_record(&gpu, plan, gm, err)))
         return st;
     r->ctx.fault = gpu_fault_next_frame();
     if ((st = vk_submit_and_wait(&r->ctx, err)))
