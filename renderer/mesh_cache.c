@@ -75,15 +75,10 @@ static void slot_clear(struct vk_context *ctx, struct gpu_mesh *s)
     memset(s, 0, sizeof *s);
 }
 
-static lucent_status slot_load(struct vk_context *ctx, const lucent_mesh_ref *ref, struct gpu_mesh *s,
-                               lucent_error *err)
+static lucent_status slot_load(const lucent_mesh_ref *ref, struct gpu_mesh *s, lucent_error *err)
 {
-    lucent_status st = ref->source == LUCENT_MESH_BUILTIN
-                           ? lucent_mesh_builtin(ref->builtin, ref->triangles, &s->mesh, err)
-                           : lucent_mesh_import_file(ref->file, &s->mesh, err);
-    if (st != LUCENT_OK)
-        return st;
-    return geometry_create(ctx, s->mesh, &s->full, err);
+    return ref->source == LUCENT_MESH_BUILTIN ? lucent_mesh_builtin(ref->builtin, ref->triangles, &s->mesh, err)
+                                              : lucent_mesh_import_file(ref->file, &s->mesh, err);
 }
 
 static uint32_t proxy_target(int image_size)
@@ -166,10 +161,12 @@ static lucent_status trim(struct vk_context *ctx, struct mesh_cache *cache, stru
     return LUCENT_OK;
 }
 
-lucent_status mesh_cache_proxies(struct vk_context *ctx, struct mesh_cache *cache, struct gpu_mesh *s,
-                                 int projection_size, int side_size, lucent_error *err)
+lucent_status mesh_cache_upload(struct vk_context *ctx, struct mesh_cache *cache, struct gpu_mesh *s,
+                                int projection_size, int side_size, lucent_error *err)
 {
-    lucent_status st = ensure_proxy(ctx, s->mesh, &s->proxies[PROXY_FRONT], projection_size, err);
+    lucent_status st = s->full.index_count ? LUCENT_OK : geometry_create(ctx, s->mesh, &s->full, err);
+    if (st == LUCENT_OK)
+        st = ensure_proxy(ctx, s->mesh, &s->proxies[PROXY_FRONT], projection_size, err);
     if (st == LUCENT_OK)
         st = ensure_proxy(ctx, s->mesh, &s->proxies[PROXY_SIDES], side_size, err);
     return st == LUCENT_OK ? trim(ctx, cache, s, err) : st;
@@ -203,7 +200,7 @@ lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, c
     /* The GPU may still read the evicted buffers only if a frame were in flight; frames are
      * synchronous, so none is. */
     slot_clear(ctx, victim);
-    st = slot_load(ctx, ref, victim, err);
+    st = slot_load(ref, victim, err);
     if (st != LUCENT_OK) {
         slot_clear(ctx, victim);
         return st;

@@ -1,5 +1,6 @@
-/* mesh_cache.h - meshes uploaded to the GPU once and kept warm between renders, keyed by where they
- * came from; a dense mesh also keeps a simplified proxy for the projection and shadow passes. */
+/* mesh_cache.h - meshes loaded once and kept warm between renders, keyed by where they came from, and
+ * uploaded to the GPU when a pass draws them; a dense mesh also keeps a simplified proxy for the
+ * projection and shadow passes. */
 #ifndef LUCENT_MESH_CACHE_H
 #define LUCENT_MESH_CACHE_H
 
@@ -47,13 +48,15 @@ enum { PROXY_FRONT = 0, PROXY_SIDES = 1 };
 void mesh_cache_init(struct mesh_cache *cache, uint64_t budget_bytes);
 /* Bytes the cached meshes hold (GPU buffers and CPU copies). */
 uint64_t mesh_cache_bytes(const struct mesh_cache *cache);
-/* Finds or loads (imports and uploads, load_ms) the mesh a scene names. Older meshes are evicted to
- * keep within the budget; a mesh that alone exceeds it is refused with LUCENT_E_LIMIT. */
+/* Finds or loads (imports or builds, load_ms) the mesh a scene names, on the CPU only: the reference
+ * draws nothing. Older meshes are evicted to keep within the budget; a mesh that alone exceeds it is
+ * refused with LUCENT_E_LIMIT. */
 lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, const lucent_mesh_ref *ref,
                              struct gpu_mesh **out, double *load_ms, lucent_error *err);
-/* Builds the proxies the front and side image sizes call for, unless already there. */
-lucent_status mesh_cache_proxies(struct vk_context *ctx, struct mesh_cache *cache, struct gpu_mesh *m,
-                                 int projection_size, int side_size, lucent_error *err);
+/* Uploads the mesh, and the proxies the front and side image sizes call for, unless already there;
+ * then evicts as mesh_cache_get does, now counting the GPU buffers too. */
+lucent_status mesh_cache_upload(struct vk_context *ctx, struct mesh_cache *cache, struct gpu_mesh *m,
+                                int projection_size, int side_size, lucent_error *err);
 /* What a pass drawing for PROXY_FRONT or PROXY_SIDES draws: the proxy, or the full mesh. */
 const struct gpu_geometry *gpu_mesh_geometry(const struct gpu_mesh *m, int which);
 void mesh_cache_destroy(struct vk_context *ctx, struct mesh_cache *cache);

@@ -354,7 +354,7 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
         s = &chosen->scene;
     }
     double t_proxies = now_ms();
-    if ((st = mesh_cache_proxies(&r->ctx, &r->meshes, gm, s->projection_size, frame_side_projection_size(s), err)))
+    if ((st = mesh_cache_upload(&r->ctx, &r->meshes, gm, s->projection_size, frame_side_projection_size(s), err)))
         return st;
     stats->ms_mesh_load += now_ms() - t_proxies;
     int proxied = gm->proxies[PROXY_FRONT].triangles || gm->proxies[PROXY_SIDES].triangles;
