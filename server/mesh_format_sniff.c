@@ -97,18 +97,22 @@ const char *mesh_format_of_bytes(const void *bytes, size_t len)
 /* A declared mesh type names the format unless the bytes are recognizably another one; any other
  * type (none, generic, or one this list lacks, such as the legacy application/x-ply) lets the bytes
  * decide. */
-const char *mesh_format_sniff(const char *content_type, const void *bytes, size_t len)
+static const char *combine(const char *declared, const char *sniffed)
 {
-    const char *declared = mesh_format_of_type(content_type), *sniffed = sniff_bytes(bytes, len);
     if (!declared)
         return sniffed;
     return !sniffed || strcmp(sniffed, declared) == 0 ? declared : NULL;
 }
 
+const char *mesh_format_sniff(const char *content_type, const void *bytes, size_t len)
+{
+    return combine(mesh_format_of_type(content_type), sniff_bytes(bytes, len));
+}
+
 const char *mesh_upload_format(const char *content_type, const void *bytes, size_t len, lucent_error *err)
 {
-    const char *ext = mesh_format_sniff(content_type, bytes, len);
-    const char *declared = mesh_format_of_type(content_type), *sniffed = mesh_format_of_bytes(bytes, len);
+    const char *declared = mesh_format_of_type(content_type), *sniffed = sniff_bytes(bytes, len);
+    const char *ext = combine(declared, sniffed);
     if (!ext && declared && sniffed)
         lucent_fail(err, LUCENT_E_INVALID, "Content-Type",
                     "the Content-Type says %s but the bytes are %s: send the type of the file, or "
