@@ -1,4 +1,4 @@
-/* test_frame_layout.c - prints where each member of struct frame_uniforms (renderer/frame_uniforms.h) lies,
+/* test_frame_layout.c - prints where each member of struct frame_uniforms (renderer/core/frame_uniforms.h) lies,
  * for test_frame_layout.py to hold against the std140 offsets glslang reports for shaders/frame.glsl. */
 #include "frame_uniforms.h"
 

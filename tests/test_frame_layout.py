@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""test_frame_layout.py - the C mirror of the per-frame uniform block (renderer/frame_uniforms.h) against the
+"""test_frame_layout.py - the C mirror of the per-frame uniform block (renderer/core/frame_uniforms.h) against the
 block itself (shaders/frame.glsl): every member a shader uses must lie at the offset glslang's reflection
 gives it under std140, and the block must have the C struct's size. Both backends upload the C struct as
 it is, so a drift would feed a shader the wrong numbers with no error anywhere.

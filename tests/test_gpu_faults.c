@@ -1,4 +1,4 @@
-/* test_gpu_faults.c - liblucent through injected GPU faults (test builds; renderer/gpu_faults.h): a
+/* test_gpu_faults.c - liblucent through injected GPU faults (test builds; renderer/gpu/gpu_faults.h): a
  * failed submit and a timed-out fence fail one frame and the next is exact; a lost device refuses every
  * later frame on its renderer, and a new renderer gets a new device and renders the same image. */
 #include "test_support.h"

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # test_lucentd_gpu_faults.sh - lucentd through GPU faults injected by a test build (LUCENT_FAULTS, see
-# renderer/gpu_faults.h): a lost device (503 with Retry-After, /readyz 503 while a new renderer is made,
+# renderer/gpu/gpu_faults.h): a lost device (503 with Retry-After, /readyz 503 while a new renderer is made,
 # renders refused meanwhile, then served again), a failed submit (500, the next frame fine), a fence
 # that times out (500, the next frame waits for it and is correct), and a driver stuck in a call (SIGTERM
 # still ends the daemon in bounded time); and a connection resumed late during shutdown. Usage:

@@ -1,4 +1,4 @@
-# stanford_bunny.cmake - converts the Stanford bunny of the npm package "bunny" (renderer/data/stanford_bunny.js:
+# stanford_bunny.cmake - converts the Stanford bunny of the npm package "bunny" (renderer/mesh/data/stanford_bunny.js:
 # exports.positions, exports.cells) into C arrays at build time (cmake -P). Inputs: IN, OUT.
 file(READ ${IN} js)
 string(REGEX MATCH "exports\\.positions=(\\[[][0-9.e,-]*\\])" found "${js}")
