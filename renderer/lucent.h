@@ -17,7 +17,7 @@ typedef enum lucent_status {
     LUCENT_E_LIMIT,     /* a value is outside a documented limit */
     LUCENT_E_IO,        /* a file could not be read or written */
     LUCENT_E_NOMEM,
-    LUCENT_E_VULKAN,    /* the GPU side failed; the message says which call */
+    LUCENT_E_GPU,       /* the GPU side (Vulkan, OpenGL or EGL) failed; the message says which call */
     LUCENT_E_INTERNAL,
     LUCENT_E_CANCELLED, /* lucent_render_cancel() stopped the render */
     LUCENT_E_DEVICE_LOST, /* the GPU device was lost (driver reset, hang): this renderer refuses every
@@ -246,7 +246,10 @@ void lucent_mesh_free(lucent_mesh *mesh);
 typedef struct lucent_renderer lucent_renderer;
 
 typedef struct lucent_renderer_desc {
-    const char *device_name;  /* substring of the Vulkan device name; NULL = $LUCENT_DEVICE or automatic */
+    const char *backend;      /* "vulkan", "gl" (OpenGL through EGL) or "auto" (Vulkan, else OpenGL);
+                               * NULL = $LUCENT_BACKEND or "auto" */
+    const char *device_name;  /* substring of the device's name (Vulkan's, or OpenGL's GL_RENDERER);
+                               * NULL = $LUCENT_DEVICE or automatic */
     int verbose;              /* log the chosen device and resource creation to stderr */
     uint64_t mesh_cache_bytes; /* meshes kept loaded (GPU buffers and CPU copies); 0 = 512 MiB */
 } lucent_renderer_desc;
@@ -260,6 +263,7 @@ typedef struct lucent_stats {
     uint64_t mesh_cache_bytes;  /* what the renderer's cached meshes hold after this frame */
     uint64_t device_bytes;      /* device memory the renderer holds after this frame: cached meshes,
                                  * the render targets of this frame's sizes, buffers */
+    char backend[16];           /* "vulkan" or "gl" */
     char device[256];
     char modelled[2048];
 } lucent_stats;

@@ -17,7 +17,7 @@ static const struct problem_kind table[] = {
     {LUCENT_E_LIMIT, NULL, 413, "over-limit", "Over a limit of this server"},
     {LUCENT_E_IO, NULL, 500, "io-error", "Storage error"},
     {LUCENT_E_NOMEM, NULL, 503, "out-of-memory", "Out of memory"},
-    {LUCENT_E_VULKAN, NULL, 500, "render-failed", "Render failed"},
+    {LUCENT_E_GPU, NULL, 500, "render-failed", "Render failed"},
     {LUCENT_E_INTERNAL, NULL, 500, "internal-error", "Internal error"},
     {LUCENT_E_CANCELLED, NULL, 503, "deadline", "Render deadline exceeded"},
     {LUCENT_E_DEVICE_LOST, NULL, 503, "device-lost", "GPU device lost"},

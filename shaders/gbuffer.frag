@@ -1,6 +1,8 @@
 // gbuffer.frag - writes position + camera distance and normal + coverage for the scatter pass.
 #version 450
-layout(push_constant) uniform Push { mat4 clip_from_world; vec4 eye; } push;
+#extension GL_GOOGLE_include_directive : require
+#include "backend.glsl"
+PUSH_CONSTANTS Push { mat4 clip_from_world; vec4 eye; } push;
 layout(location = 0) in vec3 v_position;
 layout(location = 1) in vec3 v_normal;
 layout(location = 0) out vec4 out_position_depth;

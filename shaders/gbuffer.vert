@@ -1,6 +1,8 @@
 // gbuffer.vert - the camera's view of the mesh: where each pixel's surface point is and which way it faces.
 #version 450
-layout(push_constant) uniform Push { mat4 clip_from_world; vec4 eye; } push;
+#extension GL_GOOGLE_include_directive : require
+#include "backend.glsl"
+PUSH_CONSTANTS Push { mat4 clip_from_world; vec4 eye; } push;
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 0) out vec3 v_position;

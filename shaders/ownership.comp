@@ -7,13 +7,14 @@
 // (exponentially: the nearest light counts most; 0 where there is none).
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#include "backend.glsl"
 #include "frame.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 1) uniform sampler2DArray projection_images;
 layout(set = 0, binding = 9) uniform sampler2DArray projection_normals;
 layout(set = 0, binding = 10, rgba32f) uniform writeonly image2DArray owned_images;
 // x: the first view of the dispatch (0: the front view; 1: the side and light views, one per z).
-layout(push_constant) uniform Push { ivec2 first_view; } push;
+PUSH_CONSTANTS Push { ivec2 first_view; } push;
 #include "views.glsl"
 
 // A light view sees every point its light reaches, squarely where the light falls squarely: on surface

@@ -2,12 +2,12 @@
 // stored per unit of projection-image area so the scatter pass can sum texels as area elements; and
 // the surface normal, from which the ownership pass shares each point among the views that see it.
 #version 450
-#extension GL_EXT_multiview : require
 #extension GL_GOOGLE_include_directive : require
+#include "backend.glsl"
 #extension GL_EXT_control_flow_attributes : require
 #include "frame.glsl"
 layout(set = 0, binding = 1) uniform sampler2DArrayShadow shadow_maps;
-layout(push_constant) uniform Push { int view_base; } push;
+PUSH_CONSTANTS Push { int view_base; } push;
 layout(location = 0) in vec3 v_position;
 layout(location = 1) in vec3 v_normal;
 layout(location = 0) out vec4 out_flux_depth;
@@ -56,7 +56,7 @@ void main()
             light *= shadow_visibility(l, v_position);
         entering += light;
     }
-    int view = gl_ViewIndex + push.view_base;
+    int view = VIEW_INDEX + push.view_base;
     vec3 dir = frame.view_dir[view].xyz;
     float area = 1.0 / max(dot(n, -dir), MIN_AREA_COS);
     float depth = dot(v_position - frame.view_origin[view].xyz, dir);

@@ -1,10 +1,10 @@
 // projection.vert - draws the mesh into the projection images: the front view alone, or the four side
-// views in one multiview pass (view_base 1 maps multiview's view 0 to image 1).
+// views in one multiview pass (view_base 1 maps multiview's view 0 to image 1; OpenGL draws one view at a time).
 #version 450
-#extension GL_EXT_multiview : require
 #extension GL_GOOGLE_include_directive : require
+#include "backend.glsl"
 #include "frame.glsl"
-layout(push_constant) uniform Push { int view_base; } push;
+PUSH_CONSTANTS Push { int view_base; } push;
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 0) out vec3 v_position;
@@ -13,5 +13,5 @@ void main()
 {
     v_position = in_position;
     v_normal = in_normal;
-    gl_Position = frame.view_clip[gl_ViewIndex + push.view_base] * vec4(in_position, 1.0);
+    gl_Position = frame.view_clip[VIEW_INDEX + push.view_base] * vec4(in_position, 1.0);
 }

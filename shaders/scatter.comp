@@ -6,6 +6,7 @@
 // and applies the exit Fresnel term.
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#include "backend.glsl"
 #extension GL_EXT_control_flow_attributes : require
 #include "frame.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -24,7 +25,7 @@ layout(std430, set = 0, binding = 7) buffer Far { FarSample far_samples[]; };
 layout(std430, set = 0, binding = 11) buffer FarFiltered { FarSample far_filtered[]; };
 layout(set = 0, binding = 8) uniform sampler2DArray owned_images;
 layout(set = 0, binding = 9) uniform sampler2DArray projection_normals;
-layout(push_constant) uniform Push { ivec2 size; } push;
+PUSH_CONSTANTS Push { ivec2 size; } push;
 
 // Specialized per request (pipelines.c): constant loop bounds unroll, and CPU drivers pay for
 // untaken branches, so the sampling scheme is chosen at pipeline creation.

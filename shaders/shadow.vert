@@ -1,6 +1,8 @@
 // shadow.vert - depth-only pass from a light, for lights that can be occluded by the mesh itself.
 #version 450
-layout(push_constant) uniform Push { mat4 clip_from_world; } push;
+#extension GL_GOOGLE_include_directive : require
+#include "backend.glsl"
+PUSH_CONSTANTS Push { mat4 clip_from_world; } push;
 layout(location = 0) in vec3 in_position;
 void main()
 {

@@ -34,13 +34,13 @@ int main(void)
     lucent_status st = frame(r, &first, &err);
     test_check(st == LUCENT_OK, "frame 1 renders (%s)", lucent_status_name(st));
     st = frame(r, &img, &err);
-    test_check(st == LUCENT_E_VULKAN, "frame 2, the submit fails: %s: %s", lucent_status_name(st), err.message);
+    test_check(st == LUCENT_E_GPU, "frame 2, the submit fails: %s: %s", lucent_status_name(st), err.message);
     st = frame(r, &img, &err);
     test_check(st == LUCENT_OK && same_pixels(&first, &img), "frame 3 renders the same pixels (%s)",
                lucent_status_name(st));
     lucent_image_free(&img);
     st = frame(r, &img, &err);
-    test_check(st == LUCENT_E_VULKAN, "frame 4, the fence wait times out: %s: %s", lucent_status_name(st),
+    test_check(st == LUCENT_E_GPU, "frame 4, the fence wait times out: %s: %s", lucent_status_name(st),
                err.message);
     st = frame(r, &img, &err);
     test_check(st == LUCENT_OK && same_pixels(&first, &img), "frame 5 waits for frame 4, then renders the same "

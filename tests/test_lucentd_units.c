@@ -216,7 +216,7 @@ static void problem_table(void)
         {LUCENT_E_INVALID, "width", 400},       {LUCENT_E_INVALID, "Content-Type", 415},
         {LUCENT_E_INVALID, "mesh.id", 404},     {LUCENT_E_MESH, "mesh", 422},
         {LUCENT_E_LIMIT, "width", 413},         {LUCENT_E_IO, "", 500},
-        {LUCENT_E_VULKAN, "", 500},             {LUCENT_E_INTERNAL, "", 500},
+        {LUCENT_E_GPU, "", 500},             {LUCENT_E_INTERNAL, "", 500},
         {PROBLEM_NO_ROUTE, "", 404},            {PROBLEM_METHOD, "", 405},
         {PROBLEM_NOT_ACCEPTABLE, "Accept", 406}, {PROBLEM_UNAUTHORIZED, "", 401},
         {PROBLEM_TOKEN_WRONG, "", 401},         {PROBLEM_RATE_LIMITED, "", 429},

@@ -30,7 +30,7 @@ const char *lucent_status_name(lucent_status s)
     case LUCENT_E_LIMIT: return "limit";
     case LUCENT_E_IO: return "io";
     case LUCENT_E_NOMEM: return "nomem";
-    case LUCENT_E_VULKAN: return "vulkan";
+    case LUCENT_E_GPU: return "gpu";
     case LUCENT_E_INTERNAL: return "internal";
     case LUCENT_E_CANCELLED: return "cancelled";
     case LUCENT_E_DEVICE_LOST: return "device-lost";

@@ -1,9 +1,10 @@
-/* renderer.c - the warm renderer: one Vulkan context, fixed pipelines, size-dependent targets and
- * cached meshes, and lucent_render(), which records and runs the four passes of one frame. */
+/* renderer.c - the warm renderer: a GPU backend (gpu.h) and cached meshes, and lucent_render(), which plans a
+ * frame, has the backend draw it (or the CPU reference integrate it) and says what it modelled. */
 #include "auto_plan.h"
 #include "clock_ms.h"
-#include "frame_record.h"
+#include "gpu.h"
 #include "json_text.h"
+#include "mesh_cache.h"
 #include "reference.h"
 
 #include <math.h>
@@ -14,12 +15,8 @@
 #include <time.h>
 
 struct lucent_renderer {
-    struct vk_context ctx;
-    struct pipelines pipes;
-    struct render_targets targets;
-    struct vk_buffer uniforms;
+    struct gpu *gpu;
     struct mesh_cache meshes;
-    VkQueryPool queries;
     struct frame_plan plan;   /* rebuilt every frame; lives here to keep 4 KB of samples off the stack */
     struct auto_plan chosen;  /* method "auto": the scene actually rendered */
     atomic_int cancel;        /* set by lucent_render_cancel from any thread */
@@ -36,45 +33,22 @@ lucent_renderer *lucent_renderer_create(const lucent_renderer_desc *desc, lucent
     }
     r->verbose = desc ? desc->verbose : 0;
     mesh_cache_init(&r->meshes, desc && desc->mesh_cache_bytes ? desc->mesh_cache_bytes : MESH_CACHE_DEFAULT_BYTES);
-    if ((st = vk_context_create(&r->ctx, desc ? desc->device_name : NULL, r->verbose, err)) != LUCENT_OK) {
+    if ((st = gpu_open(desc ? desc->backend : NULL, desc ? desc->device_name : NULL, r->verbose, &r->gpu, err))) {
         free(r);
         return NULL;
     }
-    if ((st = pipelines_create(&r->ctx, &r->pipes, err)) ||
-        (st = vk_buffer_create(&r->ctx, sizeof(struct frame_uniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
-                               &r->uniforms, err)))
-        goto fail;
-    if (r->ctx.timestamp_ns > 0.0) {
-        VkQueryPoolCreateInfo qci = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
-                                     .queryType = VK_QUERY_TYPE_TIMESTAMP, .queryCount = TS_COUNT};
-        VK_TRY(vkCreateQueryPool(r->ctx.device, &qci, NULL, &r->queries), err);
-    }
     return r;
-fail:
-    lucent_renderer_destroy(r);
-    return NULL;
 }
 
 void lucent_renderer_destroy(lucent_renderer *r)
 {
     if (!r)
         return;
-    /* Frames are synchronous: once lucent_render returned, the GPU holds none of our resources, unless
-     * its wait timed out. Work of a hung device may still write them: they are left, not freed. */
-    if (r->ctx.device && vk_context_settle(&r->ctx, NULL) == LUCENT_E_DEVICE_LOST && r->ctx.in_flight) {
-        fprintf(stderr, "lucent: device \"%s\" hung; its renderer's GPU memory is left allocated\n",
-                r->ctx.device_name);
-        free(r);
-        return;
+    if (r->gpu) {
+        gpu_settle(r->gpu, NULL);   /* a frame whose wait timed out finishes before its meshes go */
+        mesh_cache_destroy(r->gpu, &r->meshes);
     }
-    if (r->ctx.device) {
-        mesh_cache_destroy(&r->ctx, &r->meshes);
-        render_targets_destroy(&r->ctx, &r->targets);
-        vk_buffer_destroy(&r->ctx, &r->uniforms);
-        vkDestroyQueryPool(r->ctx.device, r->queries, NULL);
-        pipelines_destroy(&r->ctx, &r->pipes);
-    }
-    vk_context_destroy(&r->ctx);
+    gpu_close(r->gpu);
     free(r);
 }
 
@@ -164,7 +138,7 @@ static lucent_status check_scene(const lucent_scene *s, lucent_error *err)
 
 uint64_t lucent_renderer_max_pixels(const lucent_renderer *r)
 {
-    return r->ctx.limits.maxStorageBufferRange / 16u;
+    return r->gpu->max_pixels;
 }
 
 static lucent_status check_device_limits(const lucent_renderer *r, const lucent_scene *s, lucent_error *err)
@@ -173,34 +147,9 @@ static lucent_status check_device_limits(const lucent_renderer *r, const lucent_
     if (s->method == LUCENT_METHOD_REFERENCE || pixels <= max)
         return LUCENT_OK;
     return lucent_fail(err, LUCENT_E_LIMIT, "width",
-                       "a %dx%d image is %llu pixels; this device (%s) renders at most %llu (its "
-                       "maxStorageBufferRange of %u bytes over 16 bytes a pixel)",
-                       s->width, s->height, (unsigned long long)pixels, r->ctx.device_name, (unsigned long long)max,
-                       r->ctx.limits.maxStorageBufferRange);
-}
-
-static lucent_status ensure_targets(lucent_renderer *r, const lucent_scene *s, int side_size, lucent_error *err)
-{
-    const struct render_targets *t = &r->targets;
-    if (r->verbose && (t->width != (uint32_t)s->width || t->height != (uint32_t)s->height ||
-                       t->projection_size != (uint32_t)s->projection_size || t->side_size != (uint32_t)side_size))
-        fprintf(stderr, "lucent: render targets %dx%d, projection %d, sides %d\n", s->width, s->height,
-                s->projection_size, side_size);
-    return render_targets_fit(&r->ctx, &r->pipes, &r->uniforms, (uint32_t)s->width, (uint32_t)s->height,
-                              (uint32_t)s->projection_size, (uint32_t)side_size, &r->targets, err);
-}
-
-static void read_pass_times(lucent_renderer *r, lucent_stats *stats)
-{
-    uint64_t ts[TS_COUNT];
-    if (!r->queries || vkGetQueryPoolResults(r->ctx.device, r->queries, 0, TS_COUNT, sizeof ts, ts,
-                                             sizeof ts[0], VK_QUERY_RESULT_64_BIT) != VK_SUCCESS)
-        return;
-    double k = r->ctx.timestamp_ns * 1e-6;
-    stats->ms_shadow = (double)(ts[TS_SHADOW] - ts[TS_START]) * k;
-    stats->ms_projection = (double)(ts[TS_PROJECTION] - ts[TS_SHADOW]) * k;
-    stats->ms_gbuffer = (double)(ts[TS_GBUFFER] - ts[TS_PROJECTION]) * k;
-    stats->ms_scatter = (double)(ts[TS_SCATTER] - ts[TS_GBUFFER]) * k;
+                       "a %dx%d image is %llu pixels; this device (%s) renders at most %llu (%s)",
+                       s->width, s->height, (unsigned long long)pixels, r->gpu->device, (unsigned long long)max,
+                       r->gpu->max_pixels_why);
 }
 
 /* The facing AOV: cosine between each covered pixel's normal and the direction to the eye, which
@@ -220,19 +169,19 @@ static void fill_facing(lucent_image *img, const struct view_frame *camera)
 }
 
 /* AOVs only travel in EXR; a PNG request skips copying them. */
-static lucent_status read_image(lucent_renderer *r, int with_aovs, lucent_image *out, lucent_error *err)
+static lucent_status read_image(lucent_renderer *r, const lucent_scene *s, const struct gpu_result *res,
+                                lucent_image *out, lucent_error *err)
 {
-    const struct render_targets *t = &r->targets;
-    lucent_status st = lucent_image_alloc(out, (int)t->width, (int)t->height, with_aovs, err);
+    int with_aovs = s->format == LUCENT_FORMAT_EXR;
+    lucent_status st = lucent_image_alloc(out, s->width, s->height, with_aovs, err);
     if (st != LUCENT_OK)
         return st;
-    size_t pixels = (size_t)t->width * t->height;
-    const unsigned char *base = t->output.mapped;
-    const float *normal_view = (const float *)(base + t->normal_offset);
-    memcpy(out->rgba, base + t->color_offset, pixels * 16);
+    size_t pixels = (size_t)s->width * s->height;
+    const float *normal_view = res->normal_view;
+    memcpy(out->rgba, res->rgba, pixels * 16);
     if (!with_aovs)
         return LUCENT_OK;
-    memcpy(out->depth, base + t->depth_offset, pixels * 4);
+    memcpy(out->depth, res->depth, pixels * 4);
     for (size_t i = 0; i < pixels; i++) {
         memcpy(&out->normal[i * 3], &normal_view[i * 4], 12);
         out->view[i] = normal_view[i * 4 + 3];
@@ -280,7 +229,7 @@ static void describe(const lucent_scene *requested, const lucent_scene *s, const
              shared ? "shared" : "per_channel", samples ? gathered * (shared ? samples : 3 * samples) : 0,
              samples ? plan->far_block : 0, plan->near_disc_mm, s->projection_size,
              plan->view_count > 1 ? plan->side_projection_size : 0, plan->scale_mm, lights, through,
-             gpu_mesh_geometry(gm, PROXY_FRONT)->index_count / 3, gpu_mesh_geometry(gm, PROXY_SIDES)->index_count / 3,
+             gpu_mesh_geometry(gm, PROXY_FRONT).index_count / 3, gpu_mesh_geometry(gm, PROXY_SIDES).index_count / 3,
              plan->view_count == 1 || s->fallback == LUCENT_FALLBACK_FRONT
                  ? "front"
                  : "far part gathered from every view's share of the surface; near part from the next best-facing "
@@ -329,7 +278,8 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
         stats = &local;
     memset(stats, 0, sizeof *stats);
     memset(out, 0, sizeof *out);
-    snprintf(stats->device, sizeof stats->device, "%s", r->ctx.device_name);
+    snprintf(stats->device, sizeof stats->device, "%s", r->gpu->device);
+    snprintf(stats->backend, sizeof stats->backend, "%s", r->gpu->backend);
     atomic_store(&r->cancel, 0);
     double t0 = now_ms();
     struct gpu_mesh *gm;
@@ -337,8 +287,8 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
     lucent_status st;
     /* A frame that timed out must finish before its meshes, targets or pipelines are touched. */
     if ((st = check_scene(scene, err)) || (st = check_device_limits(r, scene, err)) ||
-        (st = vk_context_settle(&r->ctx, err)) ||
-        (st = mesh_cache_get(&r->ctx, &r->meshes, &scene->mesh, &gm, &stats->ms_mesh_load, err)))
+        (st = gpu_settle(r->gpu, err)) ||
+        (st = mesh_cache_get(r->gpu, &r->meshes, &scene->mesh, &gm, &stats->ms_mesh_load, err)))
         return st;
     if (scene->method == LUCENT_METHOD_REFERENCE) {
         st = render_reference(r, scene, gm, out, stats, err);
@@ -354,29 +304,30 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
         s = &chosen->scene;
     }
     double t_proxies = now_ms();
-    if ((st = mesh_cache_upload(&r->ctx, &r->meshes, gm, s->projection_size, frame_side_projection_size(s), err)))
+    if ((st = mesh_cache_upload(r->gpu, &r->meshes, gm, s->projection_size, frame_side_projection_size(s), err)))
         return st;
     stats->ms_mesh_load += now_ms() - t_proxies;
     int proxied = gm->proxies[PROXY_FRONT].triangles || gm->proxies[PROXY_SIDES].triangles;
     double tolerance = proxied ? PROXY_TOLERANCE * gm->mesh->radius : 0.0;
-    if ((st = frame_plan_build(s, gm->mesh, tolerance, chosen && chosen->diffuse_limit, plan, err)) ||
-        (st = ensure_targets(r, s, plan->side_projection_size, err)))
+    if ((st = frame_plan_build(s, gm->mesh, tolerance, chosen && chosen->diffuse_limit, plan, err)))
         return st;
-    memcpy(r->uniforms.mapped, &plan->uniforms, sizeof plan->uniforms);
-    struct frame_gpu gpu = {&r->ctx, &r->pipes, &r->targets, r->queries};
-    if ((st = frame_record(&gpu, plan, gm, err)))
+    struct gpu_frame frame = {plan, (uint32_t)s->width, (uint32_t)s->height, (uint32_t)s->projection_size,
+                              (uint32_t)plan->side_projection_size, (struct gpu_draw){gm->full.gpu, gm->full.index_count},
+                              gpu_mesh_geometry(gm, PROXY_FRONT), gpu_mesh_geometry(gm, PROXY_SIDES)};
+    struct gpu_result res;
+    if ((st = gpu_render(r->gpu, &frame, &res, err)))
         return st;
-    r->ctx.fault = gpu_fault_next_frame();
-    if ((st = vk_submit_and_wait(&r->ctx, err)))
-        return st;
-    read_pass_times(r, stats);
+    stats->ms_shadow = res.ms_shadow;
+    stats->ms_projection = res.ms_projection;
+    stats->ms_gbuffer = res.ms_gbuffer;
+    stats->ms_scatter = res.ms_scatter;
     double t1 = now_ms();
-    if ((st = read_image(r, scene->format == LUCENT_FORMAT_EXR, out, err)))
+    if ((st = read_image(r, scene, &res, out, err)))
         return st;
     stats->ms_readback = now_ms() - t1;
     stats->ms_total = now_ms() - t0;
     stats->mesh_cache_bytes = mesh_cache_bytes(&r->meshes);
-    stats->device_bytes = r->ctx.memory_bytes;
+    stats->device_bytes = r->gpu->memory_bytes;
     describe(scene, s, chosen, plan, gm, stats);
     return LUCENT_OK;
 }

@@ -27,50 +27,36 @@ static lucent_status mesh_key(const lucent_mesh_ref *ref, char *key, size_t cap,
     return LUCENT_OK;
 }
 
-static lucent_status upload(struct vk_context *ctx, const void *data, VkDeviceSize size,
-                            VkBufferUsageFlags usage, struct vk_buffer *out, lucent_error *err)
+static void geometry_destroy(struct gpu *gpu, struct cached_geometry *g)
 {
-    lucent_status st = vk_buffer_create(ctx, size, usage, out, err);
-    if (st == LUCENT_OK)
-        memcpy(out->mapped, data, size);
-    return st;
+    gpu_geometry_free(gpu, g->gpu);
+    memset(g, 0, sizeof *g);
 }
 
-static void geometry_destroy(struct vk_context *ctx, struct gpu_geometry *g)
+static lucent_status geometry_create(struct gpu *gpu, const struct lucent_mesh *m, struct cached_geometry *g,
+                                     lucent_error *err)
 {
-    vk_buffer_destroy(ctx, &g->positions);
-    vk_buffer_destroy(ctx, &g->normals);
-    vk_buffer_destroy(ctx, &g->indices);
-    g->index_count = 0;
-}
-
-static lucent_status geometry_create(struct vk_context *ctx, const struct lucent_mesh *m,
-                                     struct gpu_geometry *g, lucent_error *err)
-{
-    VkDeviceSize vbytes = (VkDeviceSize)m->vertex_count * 3 * sizeof(float);
-    lucent_status st;
     size_t index_count = (size_t)m->triangle_count * 3;
     uint32_t *ordered = malloc(index_count * sizeof *ordered);
     if (!ordered)
         return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory ordering the mesh");
     meshopt_optimizeVertexCache(ordered, m->indices, index_count, m->vertex_count);
-    if ((st = upload(ctx, m->positions, vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, &g->positions, err)) ||
-        (st = upload(ctx, m->normals, vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, &g->normals, err)) ||
-        (st = upload(ctx, ordered, index_count * sizeof *ordered, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, &g->indices, err))) {
-        free(ordered);
-        geometry_destroy(ctx, g);
+    lucent_status st = gpu_geometry_upload(gpu, m->positions, m->normals, m->vertex_count, ordered,
+                                           (uint32_t)index_count, &g->gpu, &g->bytes, err);
+    free(ordered);
+    if (st != LUCENT_OK) {
+        memset(g, 0, sizeof *g);
         return st;
     }
-    free(ordered);
-    g->index_count = m->triangle_count * 3;
+    g->index_count = (uint32_t)index_count;
     return LUCENT_OK;
 }
 
-static void slot_clear(struct vk_context *ctx, struct gpu_mesh *s)
+static void slot_clear(struct gpu *gpu, struct gpu_mesh *s)
 {
-    geometry_destroy(ctx, &s->full);
-    geometry_destroy(ctx, &s->proxies[PROXY_FRONT].geometry);
-    geometry_destroy(ctx, &s->proxies[PROXY_SIDES].geometry);
+    geometry_destroy(gpu, &s->full);
+    geometry_destroy(gpu, &s->proxies[PROXY_FRONT].geometry);
+    geometry_destroy(gpu, &s->proxies[PROXY_SIDES].geometry);
     lucent_mesh_free(s->mesh);
     memset(s, 0, sizeof *s);
 }
@@ -88,21 +74,21 @@ static uint32_t proxy_target(int image_size)
 }
 
 /* (Re)builds a proxy when the image size calls for a different one. */
-static lucent_status ensure_proxy(struct vk_context *ctx, const struct lucent_mesh *mesh, struct mesh_proxy *p,
+static lucent_status ensure_proxy(struct gpu *gpu, const struct lucent_mesh *mesh, struct mesh_proxy *p,
                                   int image_size, lucent_error *err)
 {
     uint32_t target = proxy_target(image_size);
     int wanted = mesh->triangle_count > target + target / 2;
-    if ((!wanted && !p->geometry.index_count) || (wanted && p->target == target))
+    if ((!wanted && !p->geometry.gpu) || (wanted && p->target == target))
         return LUCENT_OK;
-    geometry_destroy(ctx, &p->geometry);
+    geometry_destroy(gpu, &p->geometry);
     p->target = p->triangles = 0;
     if (!wanted)
         return LUCENT_OK;
     struct lucent_mesh *proxy = mesh_simplify(mesh, target);
     if (!proxy)
         return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory simplifying the mesh");
-    lucent_status st = geometry_create(ctx, proxy, &p->geometry, err);
+    lucent_status st = geometry_create(gpu, proxy, &p->geometry, err);
     if (st == LUCENT_OK) {
         p->target = target;
         p->triangles = proxy->triangle_count;
@@ -117,18 +103,12 @@ void mesh_cache_init(struct mesh_cache *cache, uint64_t budget_bytes)
     cache->budget = budget_bytes;
 }
 
-static uint64_t geometry_bytes(const struct gpu_geometry *g)
-{
-    return g->positions.size + g->normals.size + g->indices.size;
-}
-
 static uint64_t slot_bytes(const struct gpu_mesh *s)
 {
     if (!s->mesh)
         return 0;
     uint64_t cpu = (uint64_t)s->mesh->vertex_count * 24 + (uint64_t)s->mesh->triangle_count * 12;
-    return cpu + geometry_bytes(&s->full) + geometry_bytes(&s->proxies[PROXY_FRONT].geometry) +
-           geometry_bytes(&s->proxies[PROXY_SIDES].geometry);
+    return cpu + s->full.bytes + s->proxies[PROXY_FRONT].geometry.bytes + s->proxies[PROXY_SIDES].geometry.bytes;
 }
 
 uint64_t mesh_cache_bytes(const struct mesh_cache *cache)
@@ -141,7 +121,7 @@ uint64_t mesh_cache_bytes(const struct mesh_cache *cache)
 
 /* Evicts least recently used meshes other than `keep` until the cache fits its budget; fails when
  * `keep` alone does not fit (it is evicted too). */
-static lucent_status trim(struct vk_context *ctx, struct mesh_cache *cache, struct gpu_mesh *keep, lucent_error *err)
+static lucent_status trim(struct gpu *gpu, struct mesh_cache *cache, struct gpu_mesh *keep, lucent_error *err)
 {
     while (mesh_cache_bytes(cache) > cache->budget) {
         struct gpu_mesh *oldest = NULL;
@@ -152,32 +132,33 @@ static lucent_status trim(struct vk_context *ctx, struct mesh_cache *cache, stru
         }
         if (!oldest) {
             uint64_t need = slot_bytes(keep);
-            slot_clear(ctx, keep);
+            slot_clear(gpu, keep);
             return lucent_fail(err, LUCENT_E_LIMIT, "mesh", "the mesh needs %.1f MB in the renderer; its mesh cache "
                                "holds at most %.1f MB", need / 1048576.0, cache->budget / 1048576.0);
         }
-        slot_clear(ctx, oldest);
+        slot_clear(gpu, oldest);
     }
     return LUCENT_OK;
 }
 
-lucent_status mesh_cache_upload(struct vk_context *ctx, struct mesh_cache *cache, struct gpu_mesh *s,
+lucent_status mesh_cache_upload(struct gpu *gpu, struct mesh_cache *cache, struct gpu_mesh *s,
                                 int projection_size, int side_size, lucent_error *err)
 {
-    lucent_status st = s->full.index_count ? LUCENT_OK : geometry_create(ctx, s->mesh, &s->full, err);
+    lucent_status st = s->full.gpu ? LUCENT_OK : geometry_create(gpu, s->mesh, &s->full, err);
     if (st == LUCENT_OK)
-        st = ensure_proxy(ctx, s->mesh, &s->proxies[PROXY_FRONT], projection_size, err);
+        st = ensure_proxy(gpu, s->mesh, &s->proxies[PROXY_FRONT], projection_size, err);
     if (st == LUCENT_OK)
-        st = ensure_proxy(ctx, s->mesh, &s->proxies[PROXY_SIDES], side_size, err);
-    return st == LUCENT_OK ? trim(ctx, cache, s, err) : st;
+        st = ensure_proxy(gpu, s->mesh, &s->proxies[PROXY_SIDES], side_size, err);
+    return st == LUCENT_OK ? trim(gpu, cache, s, err) : st;
 }
 
-const struct gpu_geometry *gpu_mesh_geometry(const struct gpu_mesh *m, int which)
+struct gpu_draw gpu_mesh_geometry(const struct gpu_mesh *m, int which)
 {
-    return m->proxies[which].geometry.index_count ? &m->proxies[which].geometry : &m->full;
+    const struct cached_geometry *g = m->proxies[which].geometry.gpu ? &m->proxies[which].geometry : &m->full;
+    return (struct gpu_draw){g->gpu, g->index_count};
 }
 
-lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, const lucent_mesh_ref *ref,
+lucent_status mesh_cache_get(struct gpu *gpu, struct mesh_cache *cache, const lucent_mesh_ref *ref,
                              struct gpu_mesh **out, double *load_ms, lucent_error *err)
 {
     char key[sizeof cache->slots[0].key];
@@ -199,23 +180,23 @@ lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, c
     double t0 = now_ms();
     /* The GPU may still read the evicted buffers only if a frame were in flight; frames are
      * synchronous, so none is. */
-    slot_clear(ctx, victim);
+    slot_clear(gpu, victim);
     st = slot_load(ref, victim, err);
     if (st != LUCENT_OK) {
-        slot_clear(ctx, victim);
+        slot_clear(gpu, victim);
         return st;
     }
     snprintf(victim->key, sizeof victim->key, "%s", key);
     victim->last_used = ++cache->clock;
-    if ((st = trim(ctx, cache, victim, err)) != LUCENT_OK)
+    if ((st = trim(gpu, cache, victim, err)) != LUCENT_OK)
         return st;
     *load_ms = now_ms() - t0;
     *out = victim;
     return LUCENT_OK;
 }
 
-void mesh_cache_destroy(struct vk_context *ctx, struct mesh_cache *cache)
+void mesh_cache_destroy(struct gpu *gpu, struct mesh_cache *cache)
 {
     for (int i = 0; i < MESH_CACHE_SLOTS; i++)
-        slot_clear(ctx, &cache->slots[i]);
+        slot_clear(gpu, &cache->slots[i]);
 }

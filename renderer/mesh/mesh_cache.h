@@ -4,8 +4,8 @@
 #ifndef LUCENT_MESH_CACHE_H
 #define LUCENT_MESH_CACHE_H
 
+#include "gpu.h"
 #include "mesh.h"
-#include "vk_resources.h"
 
 #define MESH_CACHE_SLOTS 16
 /* What the cached meshes may hold (GPU buffers plus the CPU copy) unless the renderer is told. */
@@ -20,17 +20,19 @@
 /* How far the proxy may stray from the mesh, as a fraction of the bounding radius. */
 #define PROXY_TOLERANCE 0.01
 
-struct gpu_geometry {
-    struct vk_buffer positions, normals, indices;
+/* A mesh's buffers on the renderer's device (gpu.h), once uploaded. */
+struct cached_geometry {
+    struct gpu_geometry *gpu;   /* NULL: not uploaded */
     uint32_t index_count;
+    uint64_t bytes;
 };
 
 struct gpu_mesh {
     char key[1200];
     struct lucent_mesh *mesh;
-    struct gpu_geometry full;
+    struct cached_geometry full;
     struct mesh_proxy {
-        struct gpu_geometry geometry;  /* index_count 0: that pass draws `full` */
+        struct cached_geometry geometry;  /* not uploaded: that pass draws `full` */
         uint32_t target;               /* triangle budget it was built for */
         uint32_t triangles;
     } proxies[2];                      /* PROXY_FRONT, PROXY_SIDES */
@@ -51,14 +53,14 @@ uint64_t mesh_cache_bytes(const struct mesh_cache *cache);
 /* Finds or loads (imports or builds, load_ms) the mesh a scene names, on the CPU only: the reference
  * draws nothing. Older meshes are evicted to keep within the budget; a mesh that alone exceeds it is
  * refused with LUCENT_E_LIMIT. */
-lucent_status mesh_cache_get(struct vk_context *ctx, struct mesh_cache *cache, const lucent_mesh_ref *ref,
+lucent_status mesh_cache_get(struct gpu *gpu, struct mesh_cache *cache, const lucent_mesh_ref *ref,
                              struct gpu_mesh **out, double *load_ms, lucent_error *err);
 /* Uploads the mesh, and the proxies the front and side image sizes call for, unless already there;
  * then evicts as mesh_cache_get does, now counting the GPU buffers too. */
-lucent_status mesh_cache_upload(struct vk_context *ctx, struct mesh_cache *cache, struct gpu_mesh *m,
+lucent_status mesh_cache_upload(struct gpu *gpu, struct mesh_cache *cache, struct gpu_mesh *m,
                                 int projection_size, int side_size, lucent_error *err);
 /* What a pass drawing for PROXY_FRONT or PROXY_SIDES draws: the proxy, or the full mesh. */
-const struct gpu_geometry *gpu_mesh_geometry(const struct gpu_mesh *m, int which);
-void mesh_cache_destroy(struct vk_context *ctx, struct mesh_cache *cache);
+struct gpu_draw gpu_mesh_geometry(const struct gpu_mesh *m, int which);
+void mesh_cache_destroy(struct gpu *gpu, struct mesh_cache *cache);
 
 #endif

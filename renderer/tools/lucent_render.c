@@ -10,17 +10,20 @@
 #define MAX_SCENE_BYTES (16u << 20)
 
 static const char usage[] =
-    "usage: lucent-render SCENE.json -o OUT.png|OUT.exr [--stats] [--compare REF.exr] [--device NAME] [--verbose]\n"
+    "usage: lucent-render SCENE.json -o OUT.png|OUT.exr [--stats] [--compare REF.exr] [--backend B] [--device NAME]\n"
+    "                     [--verbose]\n"
     "  SCENE.json   scene document (see README); '-' reads standard input\n"
     "  -o FILE      output image; the extension (.png or .exr) picks the format\n"
     "  --stats      print pass times and what was modelled, as JSON on standard output\n"
     "  --compare R  print the error of this render against the EXR R (written with exposure 0 and no\n"
     "               background, e.g. by method \"reference\"), as JSON on standard output\n"
-    "  --device S   use the first Vulkan device whose name contains S (else $LUCENT_DEVICE)\n"
+    "  --backend B  vulkan, gl (OpenGL 4.5 through EGL) or auto (Vulkan, else OpenGL; the default, or\n"
+    "               $LUCENT_BACKEND)\n"
+    "  --device S   use the first device whose name contains S (else $LUCENT_DEVICE)\n"
     "  --verbose    log the chosen device and resource creation to standard error\n";
 
 struct options {
-    const char *scene_path, *out_path, *device, *compare_path;
+    const char *scene_path, *out_path, *backend, *device, *compare_path;
     int stats, verbose;
 };
 
@@ -32,6 +35,8 @@ static int parse_args(int argc, char **argv, struct options *o)
             o->out_path = argv[++i];
         else if (strcmp(argv[i], "--compare") == 0 && i + 1 < argc)
             o->compare_path = argv[++i];
+        else if (strcmp(argv[i], "--backend") == 0 && i + 1 < argc)
+            o->backend = argv[++i];
         else if (strcmp(argv[i], "--device") == 0 && i + 1 < argc)
             o->device = argv[++i];
         else if (strcmp(argv[i], "--stats") == 0)
@@ -138,7 +143,7 @@ int main(int argc, char **argv)
     int rc = 1;
     lucent_image img = {0};
     lucent_stats stats;
-    lucent_renderer_desc desc = {.device_name = o.device, .verbose = o.verbose};
+    lucent_renderer_desc desc = {.backend = o.backend, .device_name = o.device, .verbose = o.verbose};
     lucent_renderer *r = lucent_renderer_create(&desc, &err);
     if (!r) {
         report("cannot start the renderer", &err);

@@ -14,13 +14,13 @@ static void set_viewport(VkCommandBuffer cmd, uint32_t w, uint32_t h)
     vkCmdSetScissor(cmd, 0, 1, &sc);
 }
 
-static void draw(VkCommandBuffer cmd, const struct gpu_geometry *g, int with_normals)
+static void draw(VkCommandBuffer cmd, const struct gpu_draw *d, int with_normals)
 {
-    VkBuffer vbs[2] = {g->positions.buffer, g->normals.buffer};
+    VkBuffer vbs[2] = {d->geometry->positions.buffer, d->geometry->normals.buffer};
     VkDeviceSize offsets[2] = {0, 0};
     vkCmdBindVertexBuffers(cmd, 0, with_normals ? 2 : 1, vbs, offsets);
-    vkCmdBindIndexBuffer(cmd, g->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
-    vkCmdDrawIndexed(cmd, g->index_count, 1, 0, 0, 0);
+    vkCmdBindIndexBuffer(cmd, d->geometry->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+    vkCmdDrawIndexed(cmd, d->index_count, 1, 0, 0, 0);
 }
 
 static void begin_pass(VkCommandBuffer cmd, VkRenderPass pass, VkFramebuffer fb, uint32_t w, uint32_t h,
@@ -43,7 +43,7 @@ static void stamp(const struct frame_gpu *gpu, uint32_t query)
 }
 
 static void record_shadows(const struct frame_gpu *gpu, const struct frame_plan *plan,
-                           const struct gpu_geometry *g, int cull)
+                           const struct gpu_draw *g, int cull)
 {
     VkCommandBuffer cmd = gpu->ctx->cmd;
     VkClearValue clear = {.depthStencil = {1.0f, 0}};
@@ -58,17 +58,15 @@ static void record_shadows(const struct frame_gpu *gpu, const struct frame_plan 
     }
 }
 
-static void record_projection_pass(const struct frame_gpu *gpu, int which, const struct gpu_geometry *g,
-                                   VkPipeline pipeline)
+static void record_projection_pass(const struct frame_gpu *gpu, int which, int32_t view_base,
+                                   const struct gpu_draw *g, VkPipeline pipeline)
 {
     VkCommandBuffer cmd = gpu->ctx->cmd;
     const struct render_targets *t = gpu->targets;
     /* Depth -1 marks texels no surface covers. */
     VkClearValue clears[3] = {{.color = {{0.0f, 0.0f, 0.0f, -1.0f}}}, {.color = {{0}}}, {.depthStencil = {1.0f, 0}}};
     uint32_t side = which == PROJECTION_FRONT ? t->projection_size : t->side_size;
-    static const int32_t first_view[PROJECTION_PASSES] = {0, 1, 1 + SIDE_VIEWS};
     VkFramebuffer fb[PROJECTION_PASSES] = {t->front_fb, t->sides_fb, t->lights_fb};
-    int32_t view_base = first_view[which];
     begin_pass(cmd, gpu->pipes->projection_pass[which], fb[which], side, side, clears, 3);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, gpu->pipes->projection_layout, 0, 1,
@@ -203,7 +201,7 @@ static void record_mips(const struct frame_gpu *gpu, const struct vk_image *img,
 }
 
 static void record_gbuffer(const struct frame_gpu *gpu, const struct frame_plan *plan,
-                           const struct gpu_geometry *g, int cull)
+                           const struct gpu_draw *g, int cull)
 {
     VkCommandBuffer cmd = gpu->ctx->cmd;
     VkClearValue clears[3] = {{.color = {{0}}}, {.color = {{0}}}, {.depthStencil = {1.0f, 0}}};
@@ -253,38 +251,24 @@ static void record_scatter(const struct frame_gpu *gpu, VkPipeline far, VkPipeli
                          &to_host, 0, NULL, 0, NULL);
 }
 
-lucent_status frame_record(const struct frame_gpu *gpu, const struct frame_plan *plan, const struct gpu_mesh *gm,
-                           lucent_error *err)
+lucent_status frame_record(const struct frame_gpu *gpu, const struct gpu_frame *frame, lucent_error *err)
 {
+    const struct frame_plan *plan = frame->plan;
     lucent_status st = LUCENT_OK;
     VkCommandBuffer cmd = gpu->ctx->cmd;
-    const struct gpu_geometry *front_mesh = gpu_mesh_geometry(gm, PROXY_FRONT);
-    const struct gpu_geometry *side_mesh = gpu_mesh_geometry(gm, PROXY_SIDES);
-    VkPipeline front, sides = VK_NULL_HANDLE, lights = VK_NULL_HANDLE, far = VK_NULL_HANDLE, filter = VK_NULL_HANDLE;
-    VkPipeline compose;
-    int five = plan->view_count > 1;
+    const struct gpu_draw *front_mesh = &frame->front, *side_mesh = &frame->sides;
+    VkPipeline projection[PROJECTION_PASSES] = {0}, scatter[3] = {0};
     int owned = plan->gather_owned, cull = plan->cull_back_faces;
+    struct frame_passes passes;
+    frame_passes_plan(plan, &passes);
     pipelines_begin_frame(gpu->pipes);
-    st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_FRONT, plan->light_count, plan->shadow_mask,
-                              cull, &front, err);
-    if (st == LUCENT_OK && five)
-        st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_SIDES, plan->light_count,
-                                  plan->shadow_mask, cull, &sides, err);
-    if (st == LUCENT_OK && plan->view_count > FRAME_CAMERA_VIEWS)
-        st = pipelines_projection(gpu->ctx, gpu->pipes, PROJECTION_LIGHTS, plan->light_count,
-                                  plan->shadow_mask, cull, &lights, err);
-    struct scatter_variant variant = {SCATTER_FAR, plan->far_block, plan->scatter_samples, plan->view_count,
-                                      plan->sampling, plan->fallback, plan->single_scattering};
-    if (st == LUCENT_OK && plan->scatter_samples)
-        st = pipelines_scatter(gpu->ctx, gpu->pipes, &variant, &far, err);
-    /* Blocks of one pixel have no near disc: their far part holds the point's own light, which the
-     * filter would blur, so the compose pass reads the far samples themselves (render_targets.c). */
-    variant.pass = SCATTER_FAR_FILTER;
-    if (st == LUCENT_OK && plan->scatter_samples && plan->far_block > 1)
-        st = pipelines_scatter(gpu->ctx, gpu->pipes, &variant, &filter, err);
-    variant.pass = SCATTER_COMPOSE;
-    if (st == LUCENT_OK)
-        st = pipelines_scatter(gpu->ctx, gpu->pipes, &variant, &compose, err);
+    for (int which = 0; st == LUCENT_OK && which < PROJECTION_PASSES; which++)
+        if (passes.projection[which])
+            st = pipelines_projection(gpu->ctx, gpu->pipes, which, plan->light_count, plan->shadow_mask, cull,
+                                      &projection[which], err);
+    for (int pass = 0; st == LUCENT_OK && pass < 3; pass++)
+        if (passes.scatter[pass])
+            st = pipelines_scatter(gpu->ctx, gpu->pipes, &passes.variant[pass], &scatter[pass], err);
     if (st != LUCENT_OK)
         return st;
     VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
@@ -295,15 +279,16 @@ lucent_status frame_record(const struct frame_gpu *gpu, const struct frame_plan 
     stamp(gpu, TS_START);
     record_shadows(gpu, plan, side_mesh, cull);
     stamp(gpu, TS_SHADOW);
-    record_projection_pass(gpu, PROJECTION_FRONT, front_mesh, front);
+    record_projection_pass(gpu, PROJECTION_FRONT, 0, front_mesh, projection[PROJECTION_FRONT]);
     uint32_t side_views = (uint32_t)plan->view_count - 1;
-    if (five) {
-        record_projection_pass(gpu, PROJECTION_SIDES, side_mesh, sides);
+    if (passes.projection[PROJECTION_SIDES]) {
+        record_projection_pass(gpu, PROJECTION_SIDES, passes.first_view[PROJECTION_SIDES], side_mesh, projection[PROJECTION_SIDES]);
         copy_sides(gpu, &gpu->targets->sides, &gpu->targets->side_normals, 1, SIDE_VIEWS);
     }
-    if (lights) {
-        record_projection_pass(gpu, PROJECTION_LIGHTS, side_mesh, lights);
-        copy_sides(gpu, &gpu->targets->lights, &gpu->targets->light_normals, 1 + SIDE_VIEWS, side_views - SIDE_VIEWS);
+    if (passes.projection[PROJECTION_LIGHTS]) {
+        record_projection_pass(gpu, PROJECTION_LIGHTS, passes.first_view[PROJECTION_LIGHTS], side_mesh, projection[PROJECTION_LIGHTS]);
+        copy_sides(gpu, &gpu->targets->lights, &gpu->targets->light_normals, (uint32_t)passes.first_view[PROJECTION_LIGHTS],
+                   (uint32_t)passes.views[PROJECTION_LIGHTS]);
     }
     const struct render_targets *t = gpu->targets;
     VkImageLayout drawn = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
@@ -317,9 +302,10 @@ lucent_status frame_record(const struct frame_gpu *gpu, const struct frame_plan 
         record_mips(gpu, &t->projection, drawn, t->projection.levels, t->projection_size, t->side_size, side_views);
     }
     stamp(gpu, TS_PROJECTION);
-    record_gbuffer(gpu, plan, &gm->full, plan->cull_camera);
+    record_gbuffer(gpu, plan, &frame->full, plan->cull_camera);
     stamp(gpu, TS_GBUFFER);
-    record_scatter(gpu, far, filter, compose, (uint32_t)plan->far_block);
+    record_scatter(gpu, scatter[SCATTER_FAR], scatter[SCATTER_FAR_FILTER], scatter[SCATTER_COMPOSE],
+                   (uint32_t)plan->far_block);
     stamp(gpu, TS_SCATTER);
     VK_TRY(vkEndCommandBuffer(cmd), err);
 fail:

@@ -3,13 +3,14 @@
 #ifndef LUCENT_FRAME_RECORD_H
 #define LUCENT_FRAME_RECORD_H
 
-#include "frame_plan.h"
-#include "mesh_cache.h"
+#include "gpu.h"
 #include "pipelines.h"
 #include "render_targets.h"
 
-/* Timestamp queries written after each pass. */
-enum { TS_START, TS_SHADOW, TS_PROJECTION, TS_GBUFFER, TS_SCATTER, TS_COUNT };
+/* A mesh on this backend (gpu.h). */
+struct gpu_geometry {
+    struct vk_buffer positions, normals, indices;
+};
 
 /* What recording touches; all of it owned by the renderer. */
 struct frame_gpu {
@@ -21,7 +22,6 @@ struct frame_gpu {
 
 /* Records into gpu->ctx->cmd (not submitted). No earlier frame may still be executing: pipelines it
  * used may be destroyed to make room for this frame's. */
-lucent_status frame_record(const struct frame_gpu *gpu, const struct frame_plan *plan, const struct gpu_mesh *gm,
-                           lucent_error *err);
+lucent_status frame_record(const struct frame_gpu *gpu, const struct gpu_frame *frame, lucent_error *err);
 
 #endif

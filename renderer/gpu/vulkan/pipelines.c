@@ -231,7 +231,7 @@ static lucent_status check_projection_format(struct vk_context *ctx, lucent_erro
     VkFormatFeatureFlags need = VK_FORMAT_FEATURE_BLIT_SRC_BIT | VK_FORMAT_FEATURE_BLIT_DST_BIT |
                                 VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
     if ((props.optimalTilingFeatures & need) != need)
-        return lucent_fail(err, LUCENT_E_VULKAN, "", "device %s cannot blit and linearly filter "
+        return lucent_fail(err, LUCENT_E_GPU, "", "device %s cannot blit and linearly filter "
                            "VK_FORMAT_R32G32B32A32_SFLOAT (the projection images' mip chain)", ctx->device_name);
     return LUCENT_OK;
 }
@@ -286,67 +286,64 @@ fail:
     return st;
 }
 
+static void destroy_pipeline(void *device, uint64_t pipeline)
+{
+    vkDestroyPipeline((VkDevice)device, (VkPipeline)pipeline, NULL);
+}
+
 /* The kept pipeline for key in *out, or VK_NULL_HANDLE in *out and in *slot where a new one goes. */
 static lucent_status find_or_make_room(struct vk_context *ctx, struct pipeline_lru *lru, uint64_t key, uint64_t frame,
                                        const char *kind, VkPipeline *out, int *slot, lucent_error *err)
 {
-    if ((*out = pipeline_lru_find(lru, key, frame)))
-        return LUCENT_OK;
-    if ((*slot = pipeline_lru_make_room(lru, ctx->device, frame)) < 0)
-        return lucent_fail(err, LUCENT_E_INTERNAL, "", "more than %d %s pipelines in one frame", PIPELINE_LRU_SLOTS,
-                           kind);
-    return LUCENT_OK;
+    uint64_t found, evicted;
+    lucent_status st = pipeline_lru_get(lru, key, frame, kind, &found, slot, &evicted, err);
+    if (evicted)
+        destroy_pipeline(ctx->device, evicted);
+    *out = (VkPipeline)found;
+    return st;
 }
 
 lucent_status pipelines_projection(struct vk_context *ctx, struct pipelines *p, int which, int lights,
                                    uint32_t shadow_mask, int cull, VkPipeline *out, lucent_error *err)
 {
-    if (lights < 1 || lights > LUCENT_MAX_LIGHTS || shadow_mask >> lights)
-        return lucent_fail(err, LUCENT_E_INTERNAL, "", "no projection pipeline for %d lights, mask 0x%x", lights,
-                           (unsigned)shadow_mask);
-    uint64_t variant = ((uint64_t)cull * PROJECTION_PASSES + (uint64_t)which) * LUCENT_MAX_LIGHTS +
-                       (uint64_t)(lights - 1);
-    uint64_t key = variant << LUCENT_MAX_LIGHTS | shadow_mask;
+    uint64_t key;
     int slot;
-    lucent_status st = find_or_make_room(ctx, &p->projection, key, p->frame, "projection", out, &slot, err);
+    lucent_status st = projection_variant_key(which, lights, shadow_mask, cull, &key, err);
+    if (st == LUCENT_OK)
+        st = find_or_make_room(ctx, &p->projection, key, p->frame, "projection", out, &slot, err);
     if (st != LUCENT_OK || *out)
         return st;
-    int32_t values[2] = {lights, (int32_t)shadow_mask};
-    VkSpecializationMapEntry entries[2] = {{0, 0, 4}, {1, 4, 4}};
-    VkSpecializationInfo spec = {2, entries, sizeof values, values};
+    int32_t values[PROJECTION_CONSTANTS];
+    projection_variant_constants(lights, shadow_mask, values);
+    VkSpecializationMapEntry entries[PROJECTION_CONSTANTS] = {{0, 0, 4}, {1, 4, 4}};
+    VkSpecializationInfo spec = {PROJECTION_CONSTANTS, entries, sizeof values, values};
     struct raster_desc proj = {p->projection_pass[which], p->projection_layout, SHADER(projection_vert),
                                SHADER(projection_frag), &spec, 2, 1, cull};
     st = make_raster_pipeline(ctx, &proj, out, err);
     if (st == LUCENT_OK)
-        pipeline_lru_put(&p->projection, slot, key, *out, p->frame);
+        pipeline_lru_put(&p->projection, slot, key, (uint64_t)*out, p->frame);
     return st;
 }
 
 lucent_status pipelines_scatter(struct vk_context *ctx, struct pipelines *p, const struct scatter_variant *v,
                                 VkPipeline *out, lucent_error *err)
 {
-    int views = v->views == 1 ? 0 : v->views - FRAME_CAMERA_VIEWS + 1;   /* 0: one view; 1..: five + lights */
-    if (v->samples < 0 || v->samples > LUCENT_MAX_SAMPLES || views < 0 || views >= VIEW_VARIANTS ||
-        v->pass < SCATTER_COMPOSE || v->pass > SCATTER_FAR_FILTER || (v->pass != SCATTER_COMPOSE && v->samples == 0) ||
-        (v->block != 1 && v->block != 2 && v->block != 4))
-        return lucent_fail(err, LUCENT_E_INTERNAL, "", "no scatter pipeline for %d samples, %d views%s", v->samples,
-                           v->views, v->pass == SCATTER_COMPOSE ? "" : ", far pass");
-    int shared = v->sampling == LUCENT_SAMPLING_SHARED, front = v->fallback == LUCENT_FALLBACK_FRONT;
-    int single = v->single_scattering != 0;
-    uint64_t pass = (uint64_t)v->pass * 3 + (uint64_t)(v->block == 4 ? 2 : v->block - 1);
-    uint64_t key = ((((pass * (LUCENT_MAX_SAMPLES + 1) + (uint64_t)v->samples) * VIEW_VARIANTS + (uint64_t)views) * 2 +
-                     (uint64_t)shared) * 2 + (uint64_t)front) * 2 + (uint64_t)single;
+    uint64_t key;
     int slot;
-    lucent_status st = find_or_make_room(ctx, &p->scatter, key, p->frame, "scatter", out, &slot, err);
+    lucent_status st = scatter_variant_key(v, &key, err);
+    if (st == LUCENT_OK)
+        st = find_or_make_room(ctx, &p->scatter, key, p->frame, "scatter", out, &slot, err);
     if (st != LUCENT_OK || *out)
         return st;
-    int32_t values[7] = {v->samples, v->views, shared, front, single, v->pass, v->block};
-    VkSpecializationMapEntry entries[7] = {{0, 0, 4},  {1, 4, 4},  {2, 8, 4}, {3, 12, 4},
-                                           {4, 16, 4}, {5, 20, 4}, {6, 24, 4}};
-    VkSpecializationInfo spec = {7, entries, sizeof values, values};
+    int32_t values[SCATTER_CONSTANTS];
+    scatter_variant_constants(v, values);
+    VkSpecializationMapEntry entries[SCATTER_CONSTANTS];
+    for (uint32_t i = 0; i < SCATTER_CONSTANTS; i++)
+        entries[i] = (VkSpecializationMapEntry){i, 4 * i, 4};
+    VkSpecializationInfo spec = {SCATTER_CONSTANTS, entries, sizeof values, values};
     st = make_compute_pipeline(ctx, p, SHADER(scatter_comp), &spec, out, err);
     if (st == LUCENT_OK)
-        pipeline_lru_put(&p->scatter, slot, key, *out, p->frame);
+        pipeline_lru_put(&p->scatter, slot, key, (uint64_t)*out, p->frame);
     return st;
 }
 
@@ -362,8 +359,8 @@ void pipelines_destroy(struct vk_context *ctx, struct pipelines *p)
         vkDestroyPipeline(d, p->shadow[cull], NULL);
         vkDestroyPipeline(d, p->gbuffer[cull], NULL);
     }
-    pipeline_lru_destroy(&p->projection, d);
-    pipeline_lru_destroy(&p->scatter, d);
+    pipeline_lru_clear(&p->projection, destroy_pipeline, d);
+    pipeline_lru_clear(&p->scatter, destroy_pipeline, d);
     vkDestroyPipeline(d, p->ownership, NULL);
     VkPipelineLayout layouts[] = {p->shadow_layout, p->projection_layout, p->gbuffer_layout, p->scatter_layout};
     for (size_t i = 0; i < sizeof layouts / sizeof layouts[0]; i++)

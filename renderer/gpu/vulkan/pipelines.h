@@ -3,7 +3,7 @@
 #ifndef LUCENT_PIPELINES_H
 #define LUCENT_PIPELINES_H
 
-#include "frame_uniforms.h"
+#include "frame_passes.h"
 #include "pipeline_lru.h"
 #include "vk_context.h"
 
@@ -11,36 +11,12 @@
 #define GBUFFER_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
 #define DEPTH_FORMAT VK_FORMAT_D32_SFLOAT
 
-/* The projection images are drawn in up to three passes: the front view at projection_size, the
- * four side views in one multiview pass at their own (smaller) size, and, where the plan has light
- * views, those in another at the side views' size (a second light view not planned draws nothing:
- * its matrix is zero). The side and light images are copied afterwards into the corners of layers
- * 1-4 and 5-6 of the front image's array. Each pass writes flux and depth, and the normal. Index into
- * projection_pass and the variant key. */
-enum { PROJECTION_FRONT = 0, PROJECTION_SIDES = 1, PROJECTION_LIGHTS = 2, PROJECTION_PASSES = 3 };
-#define SIDE_VIEWS 4
-
-/* Projection pipelines are specialized by culling, front/sides, light count and which lights are
- * shadowed: CPU drivers pay for every branch, taken or not. Built on first use, the most recently used
- * PIPELINE_LRU_SLOTS kept (pipeline_lru.h). */
-/* Scatter pipelines likewise, by pass, block size, sample count (0: diffuse limit), view count,
- * sampling scheme, hidden-point fallback and single scattering. The passes, in order: the far annulus
- * per block, its filter over neighbouring blocks, and the compose pass per pixel (scatter.comp). */
-enum { SCATTER_COMPOSE = 0, SCATTER_FAR = 1, SCATTER_FAR_FILTER = 2 };
-struct scatter_variant {
-    int pass;           /* SCATTER_* */
-    int block;          /* pixels a side of one far sample: 1, 2 or 4 */
-    int samples, views;
-    lucent_sampling sampling;
-    lucent_fallback fallback;
-    int single_scattering;
-};
+/* Projection pipelines are also specialized by culling and pass (render pass), scatter pipelines as
+ * frame_passes.h says; built on first use, the most recently used PIPELINE_LRU_SLOTS kept (pipeline_lru.h). */
 /* The scatter set: frame uniforms, projection images, G-buffer position and normal, the output
  * color, normal and depth buffers, the far samples, the owned images (sampled), the projection
  * normals, the owned images' level 0 (storage) and the filtered far samples. */
 #define SCATTER_BINDINGS 12
-/* View counts: 1, or the five camera views plus 0..FRAME_LIGHT_VIEWS light views. */
-#define VIEW_VARIANTS (FRAME_LIGHT_VIEWS + 2)
 
 struct pipelines {
     VkRenderPass shadow_pass;

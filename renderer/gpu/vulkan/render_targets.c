@@ -32,14 +32,6 @@ static lucent_status make_shadow_maps(struct vk_context *ctx, const struct pipel
     return st;
 }
 
-static uint32_t mip_levels(uint32_t size)
-{
-    uint32_t levels = 1;
-    while (size >> levels)
-        levels++;
-    return levels;
-}
-
 static lucent_status make_projection(struct vk_context *ctx, const struct pipelines *p,
                                      struct render_targets *t, lucent_error *err)
 {
@@ -52,12 +44,12 @@ static lucent_status make_projection(struct vk_context *ctx, const struct pipeli
     VkImageUsageFlags copied = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     int shift = frame_owned_shift((int)s);
     lucent_status st;
-    if ((st = vk_image_create_mipped(ctx, s, s, FRAME_MAX_VIEWS, mip_levels(s), PROJECTION_FORMAT, drawn,
+    if ((st = vk_image_create_mipped(ctx, s, s, FRAME_MAX_VIEWS, frame_mip_levels(s), PROJECTION_FORMAT, drawn,
                                      &t->projection, err)) ||
         (st = vk_image_layer_view(ctx, &t->projection, 0, &t->front_layer, err)) ||
         (st = vk_image_create(ctx, s, s, FRAME_MAX_VIEWS, PROJECTION_FORMAT, drawn, &t->normals, err)) ||
         (st = vk_image_layer_view(ctx, &t->normals, 0, &t->front_normals, err)) ||
-        (st = vk_image_create_mipped(ctx, s >> shift, s >> shift, FRAME_MAX_VIEWS, mip_levels(s >> shift),
+        (st = vk_image_create_mipped(ctx, s >> shift, s >> shift, FRAME_MAX_VIEWS, frame_mip_levels(s >> shift),
                                      PROJECTION_FORMAT, owned, &t->owned, err)) ||
         (st = vk_image_base_view(ctx, &t->owned, &t->owned_base, err)) ||
         (st = vk_image_create(ctx, s, s, 1, DEPTH_FORMAT, depth, &t->front_depth, err)) ||
@@ -110,7 +102,7 @@ static lucent_status make_output(struct vk_context *ctx, struct render_targets *
         return st;
     uint32_t b = (uint32_t)frame_far_block((int)t->width, (int)t->height);
     VkDeviceSize blocks = (VkDeviceSize)frame_far_blocks(t->width, b) * frame_far_blocks(t->height, b);
-    t->far_bytes = blocks * RENDER_TARGETS_FAR_BYTES;
+    t->far_bytes = blocks * FRAME_FAR_SAMPLE_BYTES;
     /* Blocks of one pixel are not filtered (frame_record.c): the compose pass reads the far samples. */
     t->far_filtered_offset = b > 1 ? align_up(t->far_bytes, a) : 0;
     return vk_buffer_create(ctx, t->far_filtered_offset + t->far_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, &t->far,

@@ -8,9 +8,6 @@
 #include "pipelines.h"
 #include "vk_resources.h"
 
-/* std430 struct FarSample in scatter.comp: two vec4. */
-#define RENDER_TARGETS_FAR_BYTES 32
-
 struct render_targets {
     uint32_t width, height, projection_size, side_size;
     /* made once */

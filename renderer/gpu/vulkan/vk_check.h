@@ -15,7 +15,7 @@ const char *vk_result_name(VkResult r);
     do {                                                                                        \
         VkResult vk_try_r_ = (call);                                                            \
         if (vk_try_r_ != VK_SUCCESS) {                                                          \
-            st = lucent_fail((err), LUCENT_E_VULKAN, "", "%s failed: %s (%d; %s:%d)", #call,    \
+            st = lucent_fail((err), LUCENT_E_GPU, "", "%s failed: %s (%d; %s:%d)", #call,    \
                              vk_result_name(vk_try_r_), (int)vk_try_r_, __FILE__, __LINE__);    \
             goto fail;                                                                          \
         }                                                                                       \

@@ -107,7 +107,7 @@ lucent_status vk_submit_and_wait(struct vk_context *ctx, lucent_error *err)
     if (submitted == VK_ERROR_DEVICE_LOST)
         return lose(ctx, "vkQueueSubmit", submitted, err);
     if (submitted != VK_SUCCESS)  /* nothing submitted: the fence stays unsignaled and nobody waits on it */
-        return lucent_fail(err, LUCENT_E_VULKAN, "", "vkQueueSubmit failed: %s", vk_result_name(submitted));
+        return lucent_fail(err, LUCENT_E_GPU, "", "vkQueueSubmit failed: %s", vk_result_name(submitted));
     ctx->in_flight = 1;
     while (fault == GPU_FAULT_HANG)
         sleep(60);
@@ -115,7 +115,7 @@ lucent_status vk_submit_and_wait(struct vk_context *ctx, lucent_error *err)
                           ? VK_TIMEOUT
                           : vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, VK_CONTEXT_WAIT_NS);
     if (waited == VK_TIMEOUT)
-        return lucent_fail(err, LUCENT_E_VULKAN, "", "the frame did not finish within %d s on device \"%s\"",
+        return lucent_fail(err, LUCENT_E_GPU, "", "the frame did not finish within %d s on device \"%s\"",
                            VK_CONTEXT_WAIT_S, ctx->device_name);
     if (waited != VK_SUCCESS)
         return lose(ctx, "vkWaitForFences", waited, err);

@@ -36,7 +36,7 @@ void vk_context_destroy(struct vk_context *ctx);
 uint32_t vk_memory_type(const struct vk_context *ctx, uint32_t type_bits, VkMemoryPropertyFlags want);
 
 /* Submits ctx->cmd and waits for it, at most VK_CONTEXT_WAIT_S. A wait that times out leaves the work in
- * flight (LUCENT_E_VULKAN); a lost device marks the context lost (LUCENT_E_DEVICE_LOST). */
+ * flight (LUCENT_E_GPU); a lost device marks the context lost (LUCENT_E_DEVICE_LOST). */
 lucent_status vk_submit_and_wait(struct vk_context *ctx, lucent_error *err);
 /* Waits for work a timed-out wait left in flight, before anything it may use is touched or freed.
  * LUCENT_E_DEVICE_LOST on a lost context, or when that work does not finish either (a hung device:

@@ -2,6 +2,7 @@
  * in a small process-wide registry. Device choice prefers real GPUs, accepts lavapipe deliberately,
  * and is logged. */
 #include "vk_device.h"
+#include "gpu.h"
 
 #include "vk_validation.h"
 
@@ -53,7 +54,7 @@ static lucent_status pick_device(struct vk_device *dev, const char *wanted, luce
     uint32_t count = 16;
     VkResult r = vkEnumeratePhysicalDevices(dev->instance, &count, devs);
     if ((r != VK_SUCCESS && r != VK_INCOMPLETE) || count == 0)
-        return lucent_fail(err, LUCENT_E_VULKAN, "", "no Vulkan device found (%s); install "
+        return lucent_fail(err, LUCENT_E_GPU, "", "no Vulkan device found (%s); install "
                            "mesa-vulkan-drivers for the CPU renderer", vk_result_name(r));
     int best = -1, best_rank = -1;
     for (uint32_t i = 0; i < count; i++) {
@@ -69,7 +70,7 @@ static lucent_status pick_device(struct vk_device *dev, const char *wanted, luce
             best = (int)i, best_rank = rank;
     }
     if (best < 0)
-        return lucent_fail(err, LUCENT_E_VULKAN, "", wanted && *wanted
+        return lucent_fail(err, LUCENT_E_GPU, "", wanted && *wanted
                            ? "no Vulkan 1.1 device with multiview matches \"%s\""
                            : "no Vulkan 1.1 device with multiview and a graphics+compute queue%s",
                            wanted && *wanted ? wanted : "");
@@ -204,7 +205,7 @@ void vk_device_mark_lost(struct vk_device *dev)
     pthread_mutex_unlock(&registry_lock);
 }
 
-void lucent_shutdown(void)
+void vk_gpu_release_idle(void)
 {
     pthread_mutex_lock(&registry_lock);
     for (int i = 0; i < MAX_DEVICES; i++)

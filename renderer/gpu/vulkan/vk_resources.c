@@ -12,7 +12,7 @@ static lucent_status allocate(struct vk_context *ctx, VkMemoryRequirements req,
     lucent_status st = LUCENT_OK;
     uint32_t type = vk_memory_type(ctx, req.memoryTypeBits, want);
     if (type == UINT32_MAX)
-        return lucent_fail(err, LUCENT_E_VULKAN, "", "no memory type with flags 0x%x", (unsigned)want);
+        return lucent_fail(err, LUCENT_E_GPU, "", "no memory type with flags 0x%x", (unsigned)want);
     VkMemoryAllocateInfo mai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
                                 .allocationSize = req.size, .memoryTypeIndex = type};
     VK_TRY(vkAllocateMemory(ctx->device, &mai, NULL, out), err);

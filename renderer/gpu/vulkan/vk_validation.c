@@ -45,7 +45,7 @@ lucent_status vk_validation_attach(VkInstance instance, VkDebugUtilsMessengerEXT
     PFN_vkCreateDebugUtilsMessengerEXT create =
         (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT");
     if (!create)
-        return lucent_fail(err, LUCENT_E_VULKAN, "", "LUCENT_VALIDATION=1 but VK_EXT_debug_utils is missing");
+        return lucent_fail(err, LUCENT_E_GPU, "", "LUCENT_VALIDATION=1 but VK_EXT_debug_utils is missing");
     VkDebugUtilsMessengerCreateInfoEXT ci = {.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT,
                                              .messageSeverity =
                                                  VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
