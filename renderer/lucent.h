@@ -268,15 +268,22 @@ typedef struct lucent_stats {
     char modelled[2048];
 } lucent_stats;
 
-/* Renderers of one process share a Vulkan device per requested device name; it stays warm after
- * the last renderer is destroyed, until lucent_shutdown() (call it before exit to release it). */
+/* Renderers of one process share a Vulkan device (or an EGL display, each with its own OpenGL context) per
+ * requested device name; it stays warm after the last renderer is destroyed, until lucent_shutdown()
+ * (call it before exit to release it). */
 lucent_renderer *lucent_renderer_create(const lucent_renderer_desc *desc, lucent_error *err);
 void lucent_renderer_destroy(lucent_renderer *r);
 /* Releases the devices no renderer uses any more. */
 void lucent_shutdown(void);
+/* 1 when name is a backend lucent_renderer_desc takes: "vulkan", "gl" or "auto". */
+int lucent_backend_valid(const char *name);
+/* The backend the renderer opened ("vulkan" or "gl") and its device's name. */
+const char *lucent_renderer_backend(const lucent_renderer *r);
+const char *lucent_renderer_device(const lucent_renderer *r);
 /* The largest width x height the image-space methods can render on this renderer's device: the
- * scatter pass writes 16 bytes a pixel through one storage-buffer range (maxStorageBufferRange,
- * 128 MiB on lavapipe: 2896^2). Larger images are refused with LUCENT_E_LIMIT naming that limit. */
+ * scatter pass writes 16 bytes a pixel through one storage-buffer range (Vulkan's maxStorageBufferRange,
+ * OpenGL's GL_MAX_SHADER_STORAGE_BLOCK_SIZE; 128 MiB on lavapipe and llvmpipe: 2896^2). Larger images
+ * are refused with LUCENT_E_LIMIT naming that limit. */
 uint64_t lucent_renderer_max_pixels(const lucent_renderer *r);
 /* Renders one frame. out is allocated here (AOVs only when scene->format is EXR); free with
  * lucent_image_free. stats may be NULL. */

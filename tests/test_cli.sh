@@ -1,16 +1,16 @@
 #!/usr/bin/env bash
 # test_cli.sh - drives lucent-render as a user would: renders builtins and the bunny to PNG and EXR,
-# decodes the results with oiiotool, checks --stats, --compare and --device, and exit codes and messages
-# for bad input.
+# decodes the results with oiiotool, checks --stats, --compare, --backend and --device, and exit codes and
+# messages for bad input.
 # Every run goes through render(), which shows the run's whole standard error: cli_validated (the same
-# script under the validation layer) fails on any "vulkan validation" line in the output, and the last
+# script under the validation layer) fails on any "vulkan validation" or "opengl validation" line, and the last
 # check here counts those lines too, so that a report cannot hide in a captured stream.
 set -u
 bin=$1
 bunny=$2
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
-unset LUCENT_DEVICE # the device checks set it themselves
+unset LUCENT_DEVICE LUCENT_BACKEND # the device and backend checks set them themselves
 passed=0 failed=0 runs=0 reports=0
 
 check() {  # check DESCRIPTION COMMAND...
@@ -24,7 +24,7 @@ render() {
     "$bin" "$@" >"$dir/out" 2>"$dir/err"
     rc=$?
     runs=$((runs + 1))
-    reports=$((reports + $(grep -cE 'vulkan validation (warning|error)' "$dir/err")))
+    reports=$((reports + $(grep -cE 'vulkan validation (warning|error)|opengl validation' "$dir/err")))
     echo "     exit $rc"
     sed 's/^/     stderr: /' "$dir/err"
     return $rc
@@ -141,6 +141,34 @@ check "--device picks the device by name, over LUCENT_DEVICE" \
 check "--device naming no device: exit 1" expect_exit 1 '"no-such-gpu"' "$five" -o "$dir/x.png" --device no-such-gpu
 check "--device longer than the device registry holds (200 bytes): exit 1" \
     expect_exit 1 "at most 127 bytes" "$five" -o "$dir/x.png" --device "$(printf 'x%.0s' $(seq 1 200))"
+# backend_is NAME: the --stats JSON of the last run names backend NAME, in its stats and in what it modelled.
+backend_is() {
+    python3 - "$dir/out" "$1" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+print(f'     backend {s["backend"]}, modelled {s["modelled"].get("backend")}, device "{s["device"]}"')
+sys.exit(0 if s["backend"] == sys.argv[2] == s["modelled"]["backend"] and s["device"] else 1)
+PY
+}
+check "--backend gl renders through OpenGL and EGL; --stats names it" \
+    eval 'render "$five" -o "$dir/gl.png" --backend gl --stats --verbose && backend_is gl &&
+          grep -q "OpenGL device \"llvmpipe" "$dir/err" && image_is "$dir/gl.png" 64 48 4'
+check "--backend vulkan: --stats names it" eval 'render "$five" -o "$dir/vk.png" --backend vulkan --stats && backend_is vulkan'
+check "LUCENT_BACKEND=gl picks OpenGL, --backend overrides it" \
+    eval 'LUCENT_BACKEND=gl render "$five" -o "$dir/x.png" --stats && backend_is gl &&
+          LUCENT_BACKEND=gl render "$five" -o "$dir/x.png" --stats --backend vulkan && backend_is vulkan'
+check "auto without a Vulkan driver falls back to OpenGL and says why" \
+    eval 'VK_ICD_FILENAMES=/nonexistent render "$five" -o "$dir/x.png" --stats && backend_is gl &&
+          grep -q "no Vulkan device (.*); trying OpenGL through EGL" "$dir/err"'
+check "--backend vulkan without a Vulkan driver: exit 1, no fallback" \
+    eval 'VK_ICD_FILENAMES=/nonexistent expect_exit 1 "vkCreateInstance" "$five" -o "$dir/x.png" --backend vulkan'
+check "--backend gl --device picks the EGL device by its renderer's name" \
+    eval 'render "$five" -o "$dir/x.png" --backend gl --device llvmpipe --stats && backend_is gl'
+check "--backend gl --device naming no device: exit 1 listing the devices found" \
+    expect_exit 1 'no OpenGL device named like "no-such-gpu" (found: "llvmpipe' "$five" -o "$dir/x.png" --backend gl \
+    --device no-such-gpu
+check "--backend other than vulkan, gl, auto: exit 2" expect_exit 2 "vulkan, gl or auto" "$five" -o "$dir/x.png" \
+    --backend metal
 check "no arguments: usage, exit 2" expect_exit 2 "usage"
 check "unknown flag: exit 2" expect_exit 2 "unexpected argument" "$five" -o "$dir/x.png" --frobnicate
 check "output extension must be png or exr: exit 2" expect_exit 2 ".png or .exr" "$five" -o "$dir/x.jpg"
@@ -156,7 +184,7 @@ echo "{\"mesh\":{\"file\":\"$dir/empty.stl\"},\"width\":32,\"height\":32}" >"$di
 check "mesh without triangles: exit 1" expect_exit 1 "mesh" "$dir/bad.json" -o "$dir/x.png"
 check "unwritable output: exit 1" expect_exit 1 "cannot write" "$five" -o "/nonexistent-dir/x.png"
 
-check "no vulkan validation reports on stderr in $runs runs ($reports found)" [ "$reports" = 0 ]
+check "no vulkan or opengl validation reports on stderr in $runs runs ($reports found)" [ "$reports" = 0 ]
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

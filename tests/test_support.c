@@ -43,6 +43,13 @@ lucent_renderer *test_renderer(void)
     lucent_renderer *r = lucent_renderer_create(&desc, &err);
     if (!r)
         die("renderer", &err);
+    /* The OpenGL runs of the image tests (tests/CMakeLists.txt) get there by Vulkan's absence: make sure. */
+    const char *expect = getenv("LUCENT_EXPECT_BACKEND");
+    printf("renderer: backend %s, device \"%s\"\n", lucent_renderer_backend(r), lucent_renderer_device(r));
+    if (expect && strcmp(expect, lucent_renderer_backend(r)) != 0) {
+        lucent_fail(&err, LUCENT_E_INTERNAL, "", "expected backend %s, got %s", expect, lucent_renderer_backend(r));
+        die("renderer", &err);
+    }
     return r;
 }
 

@@ -6,6 +6,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+int lucent_backend_valid(const char *name)
+{
+    return strcmp(name, "vulkan") == 0 || strcmp(name, "gl") == 0 || strcmp(name, "auto") == 0;
+}
+
 lucent_status gpu_open(const char *backend, const char *device_name, int verbose, struct gpu **out,
                        lucent_error *err)
 {
@@ -17,7 +22,7 @@ lucent_status gpu_open(const char *backend, const char *device_name, int verbose
         return vk_gpu_open(device_name, verbose, out, err);
     if (strcmp(backend, "gl") == 0)
         return gl_gpu_open(device_name, verbose, out, err);
-    if (strcmp(backend, "auto") != 0)
+    if (!lucent_backend_valid(backend))
         return lucent_fail(err, LUCENT_E_INVALID, "backend", "unknown backend \"%.40s\" (vulkan, gl or auto)", backend);
     lucent_error vk_err;
     if (vk_gpu_open(device_name, verbose, out, &vk_err) == LUCENT_OK)

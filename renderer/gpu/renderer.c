@@ -136,6 +136,16 @@ static lucent_status check_scene(const lucent_scene *s, lucent_error *err)
     return check_camera(&s->camera, err);
 }
 
+const char *lucent_renderer_backend(const lucent_renderer *r)
+{
+    return r->gpu->backend;
+}
+
+const char *lucent_renderer_device(const lucent_renderer *r)
+{
+    return r->gpu->device;
+}
+
 uint64_t lucent_renderer_max_pixels(const lucent_renderer *r)
 {
     return r->gpu->max_pixels;
@@ -204,7 +214,8 @@ static const char *method_name(lucent_method m)
 static void describe(const lucent_scene *requested, const lucent_scene *s, const struct auto_plan *chosen,
                      const struct frame_plan *plan, const struct gpu_mesh *gm, lucent_stats *stats)
 {
-    char lights[512] = "", choices[sizeof chosen->decisions + 16] = "";
+    char lights[512] = "", choices[sizeof chosen->decisions + 16] = "", device[2 * sizeof stats->device];
+    json_escape(stats->device, device, sizeof device);
     size_t n = 0;
     int shared = s->sampling == LUCENT_SAMPLING_SHARED, samples = plan->scatter_samples;
     int gathered = frame_far_views(s, plan);
@@ -218,13 +229,13 @@ static void describe(const lucent_scene *requested, const lucent_scene *s, const
     if (chosen)
         snprintf(choices, sizeof choices, "\"auto\":{%s},", chosen->decisions);
     snprintf(stats->modelled, sizeof stats->modelled,
-             "{\"method\":\"%s\",%s\"views\":%d,\"subsurface\":\"%s\",\"samples_per_channel\":%d,"
+             "{\"method\":\"%s\",\"backend\":\"%s\",\"device\":\"%s\",%s\"views\":%d,\"subsurface\":\"%s\",\"samples_per_channel\":%d,"
              "\"sampling\":\"%s\",\"texel_fetches_per_far_sample\":%d,\"far_block_pixels\":%d,"
              "\"near_disc_mm\":%.6g,\"projection_size\":%d,"
              "\"side_projection_size\":%d,\"scale_mm\":%.9g,\"shadows\":[%s],\"transmission\":[%s],"
              "\"projection_triangles\":{\"front\":%u,\"sides_and_shadows\":%u},"
              "\"hidden_point_fallback\":\"%s\",\"single_scattering\":%s}",
-             method_name(requested->method), choices, plan->view_count,
+             method_name(requested->method), stats->backend, device, choices, plan->view_count,
              samples ? "sampled dipole" : "diffuse limit (irradiance x total R_d)", samples,
              shared ? "shared" : "per_channel", samples ? gathered * (shared ? samples : 3 * samples) : 0,
              samples ? plan->far_block : 0, plan->near_disc_mm, s->projection_size,
@@ -261,7 +272,7 @@ static lucent_status render_reference(lucent_renderer *r, const lucent_scene *sc
         return st;
     stats->triangles = gm->mesh->triangle_count;
     snprintf(stats->modelled, sizeof stats->modelled,
-             "{\"method\":\"reference\",\"scale_mm\":%.9g,\"points\":%u,\"point_spacing_mm\":%.6g,"
+             "{\"method\":\"reference\",\"backend\":\"cpu\",\"scale_mm\":%.9g,\"points\":%u,\"point_spacing_mm\":%.6g,"
              "\"min_mean_free_path_mm\":%.6g,\"sum\":\"%s\",\"threshold\":%.6g,\"estimated_rel_error\":%.3g,"
              "\"ms_points\":%.3f,\"ms_pixels\":%.3f,\"single_scattering\":%s}",
              scale_mm, report.points, report.point_spacing_mm, report.min_mean_free_path_mm,
@@ -342,11 +353,12 @@ int lucent_stats_json(const lucent_stats *s, char *buf, size_t cap)
     char device[2 * sizeof s->device];
     json_escape(s->device, device, sizeof device);
     int n = snprintf(buf, cap,
-                     "{\"device\":\"%s\",\"triangles\":%u,\"proxy_triangles\":%u,\"shadow_maps\":%d,\"views\":%d,"
+                     "{\"backend\":\"%s\",\"device\":\"%s\",\"triangles\":%u,\"proxy_triangles\":%u,"
+                     "\"shadow_maps\":%d,\"views\":%d,"
                      "\"mesh_cache_bytes\":%llu,\"device_bytes\":%llu,"
                      "\"ms\":{\"mesh_load\":%.3f,\"shadow\":%.3f,\"projection\":%.3f,\"gbuffer\":%.3f,"
                      "\"scatter\":%.3f,\"readback\":%.3f,\"total\":%.3f},\"modelled\":%s}",
-                     device, s->triangles, s->proxy_triangles, s->shadow_maps, s->views,
+                     s->backend, device, s->triangles, s->proxy_triangles, s->shadow_maps, s->views,
                      (unsigned long long)s->mesh_cache_bytes, (unsigned long long)s->device_bytes, s->ms_mesh_load,
                      s->ms_shadow, s->ms_projection, s->ms_gbuffer, s->ms_scatter, s->ms_readback, s->ms_total,
                      s->modelled[0] ? s->modelled : "{}");

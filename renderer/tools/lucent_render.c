@@ -50,6 +50,10 @@ static int parse_args(int argc, char **argv, struct options *o)
             return -1;
         }
     }
+    if (o->backend && !lucent_backend_valid(o->backend)) {
+        fprintf(stderr, "lucent-render: --backend must be vulkan, gl or auto (got \"%s\")\n", o->backend);
+        return -1;
+    }
     if (!o->scene_path || !o->out_path) {
         fprintf(stderr, "lucent-render: %s\n", !o->scene_path ? "no scene given" : "no output given (-o)");
         return -1;
