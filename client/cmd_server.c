@@ -85,8 +85,9 @@ int cmd_health(struct session *s, int argc, char **argv, lc_error *err)
         rc = lc_fail(err, LC_E_SERVER, "alive, not ready: %s (%ld)", reason ? reason : "no reason given", status);
         goto done;
     }
+    const char *backend = json_string_value(json_object_get(ready, "backend"));
     const char *device = json_string_value(json_object_get(ready, "device"));
-    printf("alive, ready: device \"%s\", queue depth %lld\n", device ? device : "?",
+    printf("alive, ready: %s device \"%s\", queue depth %lld\n", backend ? backend : "?", device ? device : "?",
            (long long)json_integer_value(json_object_get(ready, "queue_depth")));
 done:
     json_decref(alive);

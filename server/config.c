@@ -1,6 +1,7 @@
 /* config.c - lucentd's settings: one table gives each its flag, environment variable, default and help,
  * so --help, the start-up log and the parser cannot disagree. */
 #include "config.h"
+#include "lucent.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -70,7 +71,10 @@ static const struct option_def options[] = {
      "comma-separated Host names (no port) the API answers for, or *; empty: the loopback names when "
      "listening on loopback, any otherwise"},
     {"token-file", STR(token_file), "", 0, 0, "file holding a bearer token required on all but /healthz, /readyz and the web page"},
-    {"device", STR(device), "", 0, 0, "Vulkan device name substring (else $LUCENT_DEVICE, else automatic)"},
+    {"backend", STR(backend), "", 0, 0,
+     "vulkan, gl (OpenGL 4.5 through EGL) or auto (Vulkan, else OpenGL); empty: $LUCENT_BACKEND, else auto"},
+    {"device", STR(device), "", 0, 0,
+     "device name substring, Vulkan's or OpenGL's GL_RENDERER (else $LUCENT_DEVICE, else automatic)"},
     {"rate-limit", NUM(OPT_REAL, rate_limit), "0", 0, 1e6,
      "requests a second per client address, averaged (0: no limit); more get 429 (routes open without a token, the probes and the web page, are exempt)"},
     {"rate-burst", NUM(OPT_REAL, rate_burst), "20", 1, 1e6, "requests per client address at once under --rate-limit"},
@@ -186,6 +190,10 @@ int config_load(struct config *cfg, int argc, char **argv)
         }
         if (set_option(cfg, o, value, "flag") != 0)
             return -1;
+    }
+    if (cfg->backend[0] && !lucent_backend_valid(cfg->backend)) {
+        fprintf(stderr, "lucentd: backend must be vulkan, gl or auto (got \"%s\")\n", cfg->backend);
+        return -1;
     }
     if (!cfg->import_tool[0])
         default_import_tool(cfg);

@@ -41,7 +41,8 @@ struct config {
     char cors_origins[1024];      /* comma-separated exact origins, or "*"; empty: no CORS headers */
     char allowed_hosts[1024];     /* Host names the API answers for, or "*"; empty: loopback names on loopback */
     char token_file[512];         /* bearer token required when set */
-    char device[128];             /* Vulkan device name substring; empty: automatic */
+    char backend[16];             /* vulkan, gl or auto; empty: $LUCENT_BACKEND, else auto */
+    char device[128];             /* device name substring; empty: automatic */
     double rate_limit;            /* requests a second per client address; 0: no limit */
     double rate_burst;            /* requests at once per client address */
 };

@@ -196,8 +196,8 @@ int main(int argc, char **argv)
         goto done;
     }
     double t0 = monotonic_seconds();
-    srv.queue = render_queue_create(srv.cfg.queue_length, srv.cfg.device, srv.cfg.mesh_cache_bytes, srv.metrics,
-                                    srv.cache, srv.resumes, &err);
+    srv.queue = render_queue_create(srv.cfg.queue_length, srv.cfg.backend, srv.cfg.device, srv.cfg.mesh_cache_bytes,
+                                    srv.metrics, srv.cache, srv.resumes, &err);
     if (!srv.queue)
         goto fail;
     uint16_t port = 0;
@@ -207,12 +207,12 @@ int main(int argc, char **argv)
     log_line(LOG_INFO, "listening on http://%s%s%s:%u (version %s, renderer %.12s)", strchr(srv.cfg.listen, ':') ? "[" : "",
              srv.cfg.listen, strchr(srv.cfg.listen, ':') ? "]" : "", port, LUCENTD_VERSION, LUCENTD_RENDERER_HASH);
     service_notify_send(&notify, "STATUS=warming the renderer (listening on port %u)", port);
-    if (render_queue_wait_ready(srv.queue, srv.device, sizeof srv.device, &srv.max_pixels, &err) != 0)
+    if (render_queue_wait_ready(srv.queue, srv.backend, srv.device, sizeof srv.device, &srv.max_pixels, &err) != 0)
         goto fail;
     atomic_store(&srv.phase, PHASE_SERVING);
-    log_line(LOG_INFO, "ready: device \"%s\", renderer warm in %.0f ms; limits: body %llu B, image %dx%d (device: %llu "
+    log_line(LOG_INFO, "ready: %s device \"%s\", renderer warm in %.0f ms; limits: body %llu B, image %dx%d (device: %llu "
                        "pixels), %u triangles, %d samples, %d lights, projection %d, render %g s, queue %d, %d connections",
-             srv.device, (monotonic_seconds() - t0) * 1e3, (unsigned long long)srv.cfg.max_body_bytes, srv.cfg.max_width,
+             srv.backend, srv.device, (monotonic_seconds() - t0) * 1e3, (unsigned long long)srv.cfg.max_body_bytes, srv.cfg.max_width,
              srv.cfg.max_height, (unsigned long long)srv.max_pixels, srv.cfg.max_triangles, srv.cfg.max_samples, srv.cfg.max_lights,
              srv.cfg.max_projection_size, srv.cfg.render_timeout_s, srv.cfg.queue_length, srv.cfg.max_connections);
     service_notify_send(&notify, "READY=1\nSTATUS=serving on %s: 0 renders queued or running\nMAINPID=%ld", srv.device,

@@ -160,11 +160,12 @@ char *metrics_text(struct metrics *m, const struct metrics_gauges *g, size_t *le
     struct text t = {malloc(16384), 0, 16384, 0};
     if (!t.buf)
         return NULL;
-    char device[512], version[128];
+    char backend[64], device[512], version[128];
+    label_value(g->backend ? g->backend : "", backend, sizeof backend);
     label_value(g->device ? g->device : "", device, sizeof device);
     label_value(g->version, version, sizeof version);
-    add(&t, "# HELP lucentd_build_info Build and Vulkan device of this daemon.\n# TYPE lucentd_build_info gauge\n"
-            "lucentd_build_info{version=\"%s\",device=\"%s\"} 1\n", version, device);
+    add(&t, "# HELP lucentd_build_info Build, GPU backend and device of this daemon.\n# TYPE lucentd_build_info gauge\n"
+            "lucentd_build_info{version=\"%s\",backend=\"%s\",device=\"%s\"} 1\n", version, backend, device);
     add(&t, "# HELP lucentd_ready 1 when the renderer is warm and the daemon is not draining.\n"
             "# TYPE lucentd_ready gauge\nlucentd_ready %d\n", g->ready);
     add(&t, "# HELP lucentd_queue_depth Render requests waiting or running.\n# TYPE lucentd_queue_depth gauge\n"

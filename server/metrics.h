@@ -28,7 +28,7 @@ struct metrics_gauges {
     uint64_t slow_closed;
     uint64_t abandoned; /* queued renders skipped: their client had gone */ /* connections closed past --request-timeout */ /* request bodies in flight, as charged against --max-body-total */
     uint64_t import_violations; /* importers the sandbox stopped */
-    const char *device, *version;
+    const char *backend, *device, *version;
 };
 
 /* The exposition text (malloc'd); NULL when out of memory. */

@@ -31,7 +31,9 @@ struct render_queue {
     int started;                /* 1 warm, -1 failed */
     int recovering;             /* the device was lost; a new renderer is being made */
     lucent_error start_err;
+    char backend[16];
     char device[256];
+    char backend_request[16];
     char device_request[128];
     uint64_t mesh_cache_bytes;
     uint64_t max_pixels;        /* the renderer's largest image */
@@ -182,15 +184,18 @@ static int warm_up(struct render_queue *q, lucent_renderer *r, lucent_error *err
     lucent_stats stats;
     lucent_status st = lucent_render(r, &scene, &img, &stats, err);
     lucent_image_free(&img);
-    if (st == LUCENT_OK)
+    if (st == LUCENT_OK) {
+        snprintf(q->backend, sizeof q->backend, "%s", stats.backend);
         snprintf(q->device, sizeof q->device, "%s", stats.device);
+    }
     q->max_pixels = lucent_renderer_max_pixels(r);
     return st == LUCENT_OK ? 0 : -1;
 }
 
 static lucent_renderer *make_renderer(struct render_queue *q, lucent_error *err)
 {
-    lucent_renderer_desc desc = {.device_name = q->device_request[0] ? q->device_request : NULL, .verbose = 0,
+    lucent_renderer_desc desc = {.backend = q->backend_request[0] ? q->backend_request : NULL,
+                                 .device_name = q->device_request[0] ? q->device_request : NULL, .verbose = 0,
                                  .mesh_cache_bytes = q->mesh_cache_bytes};
     lucent_renderer *r = lucent_renderer_create(&desc, err);
     if (r && warm_up(q, r, err) != 0) {
@@ -222,7 +227,7 @@ static lucent_renderer *recover(struct render_queue *q, lucent_renderer *lost, c
         }
         pthread_mutex_unlock(&q->lock);
         if (r) {
-            log_line(LOG_INFO, "renderer re-created on device \"%s\"", q->device);
+            log_line(LOG_INFO, "renderer re-created on %s device \"%s\"", q->backend, q->device);
             return r;
         }
         log_line(LOG_ERROR, "re-creating the renderer failed: %s%s", err.message, stop ? "" : "; retrying in 1 s");
@@ -286,8 +291,8 @@ static void *worker(void *arg)
     return NULL;
 }
 
-struct render_queue *render_queue_create(int capacity, const char *device_name, uint64_t mesh_cache_bytes,
-                                         struct metrics *metrics, struct image_cache *cache,
+struct render_queue *render_queue_create(int capacity, const char *backend, const char *device_name,
+                                         uint64_t mesh_cache_bytes, struct metrics *metrics, struct image_cache *cache,
                                          struct resume_gate *resumes, lucent_error *err)
 {
     struct render_queue *q = calloc(1, sizeof *q);
@@ -302,6 +307,7 @@ struct render_queue *render_queue_create(int capacity, const char *device_name, 
     q->metrics = metrics;
     q->cache = cache;
     q->resumes = resumes;
+    snprintf(q->backend_request, sizeof q->backend_request, "%s", backend ? backend : "");
     snprintf(q->device_request, sizeof q->device_request, "%s", device_name ? device_name : "");
     if (pthread_create(&q->thread, NULL, worker, q) != 0) {
         pthread_cond_destroy(&q->wake);
@@ -313,7 +319,7 @@ struct render_queue *render_queue_create(int capacity, const char *device_name, 
     return q;
 }
 
-int render_queue_wait_ready(struct render_queue *q, char *device, size_t cap, uint64_t *max_pixels,
+int render_queue_wait_ready(struct render_queue *q, char backend[16], char *device, size_t cap, uint64_t *max_pixels,
                             lucent_error *err)
 {
     pthread_mutex_lock(&q->lock);
@@ -321,6 +327,7 @@ int render_queue_wait_ready(struct render_queue *q, char *device, size_t cap, ui
         pthread_cond_wait(&q->wake, &q->lock);
     int ok = q->started > 0;
     if (ok) {
+        snprintf(backend, 16, "%s", q->backend);
         snprintf(device, cap, "%s", q->device);
         *max_pixels = q->max_pixels;
     }

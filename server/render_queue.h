@@ -38,15 +38,15 @@ struct render_queue;
 
 struct resume_gate;
 
-/* Starts the worker, which creates the renderer and warms it with one small frame.
+/* Starts the worker, which creates the renderer and warms it with one small frame. backend and
  * device_name may be NULL or "" (automatic). Connections are resumed through `resumes`, which must
  * outlive the queue. */
-struct render_queue *render_queue_create(int capacity, const char *device_name, uint64_t mesh_cache_bytes,
-                                         struct metrics *metrics, struct image_cache *cache,
+struct render_queue *render_queue_create(int capacity, const char *backend, const char *device_name,
+                                         uint64_t mesh_cache_bytes, struct metrics *metrics, struct image_cache *cache,
                                          struct resume_gate *resumes, lucent_error *err);
-/* Blocks until the renderer is warm (0: device and the largest image in pixels filled in) or failed to
- * start (-1, err). */
-int render_queue_wait_ready(struct render_queue *q, char *device, size_t cap, uint64_t *max_pixels,
+/* Blocks until the renderer is warm (0: backend, device and the largest image in pixels filled in) or failed
+ * to start (-1, err). */
+int render_queue_wait_ready(struct render_queue *q, char backend[16], char *device, size_t cap, uint64_t *max_pixels,
                             lucent_error *err);
 /* A new job holding one reference (the caller's), or NULL when out of memory. */
 struct render_job *render_job_new(void);

@@ -359,8 +359,9 @@ static enum MHD_Result handle_render(struct request *req)
             return http_send_problem(req, LUCENT_E_LIMIT, "mesh", "the mesh has %u triangles; at most %u on this server",
                                      info.triangles, srv->cfg.max_triangles);
     }
-    char etag[65];
-    if (scene_etag(&scene, srv->device, etag) != 0)
+    char etag[65], renderer[sizeof srv->backend + sizeof srv->device + 1];
+    snprintf(renderer, sizeof renderer, "%s:%s", srv->backend, srv->device);   /* backends round differently */
+    if (scene_etag(&scene, renderer, etag) != 0)
         return http_send_problem(req, LUCENT_E_INTERNAL, NULL, "cannot serialize the scene");
     if (scene.mesh.source == LUCENT_MESH_STORED) {
         scene.mesh.source = LUCENT_MESH_FILE; /* the renderer reads files, never ids */
@@ -450,7 +451,8 @@ static enum MHD_Result handle_readyz(struct request *req)
                          json_pack("{s:b, s:s, s:i}", "ready", 0, "reason", reason, "queue_depth", depth),
                          MHD_HTTP_HEADER_RETRY_AFTER, secs);
     return send_json(req, MHD_HTTP_OK,
-                     json_pack("{s:b, s:s, s:i, s:{s:s, s:s, s:s}}", "ready", 1, "device", srv->device, "queue_depth",
+                     json_pack("{s:b, s:s, s:s, s:i, s:{s:s, s:s, s:s}}", "ready", 1, "backend", srv->backend,
+                               "device", srv->device, "queue_depth",
                                depth, "import_sandbox", "user", import_jail_user(srv->jail), "namespaces",
                                import_jail_namespaces(srv->jail), "description", import_jail_describe(srv->jail)),
                      NULL, NULL);
@@ -459,7 +461,7 @@ static enum MHD_Result handle_readyz(struct request *req)
 static enum MHD_Result handle_metrics(struct request *req)
 {
     struct server *srv = req->srv;
-    struct metrics_gauges g = {.device = srv->device, .version = LUCENTD_VERSION};
+    struct metrics_gauges g = {.backend = srv->backend, .device = srv->device, .version = LUCENTD_VERSION};
     g.queue_depth = render_queue_depth(srv->queue, &g.in_flight);
     g.ready = atomic_load(&srv->phase) == PHASE_SERVING && !render_queue_recovering(srv->queue);
     g.cache_bytes = image_cache_bytes(srv->cache);

@@ -29,7 +29,8 @@ struct server {
     uint64_t body_bytes;          /* charged by requests receiving or holding a body; MHD's thread only */
     struct upload_queue *uploads;
     char token[256];       /* empty: no token required */
-    char device[256];      /* Vulkan device, known once serving */
+    char backend[16];      /* "vulkan" or "gl", known once serving */
+    char device[256];      /* the GPU device, known once serving */
     uint64_t max_pixels;   /* width x height the device can render, known once serving */
     atomic_uint_fast64_t next_request;
     long long started_at;  /* Unix time, part of request ids */

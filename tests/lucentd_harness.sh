@@ -30,7 +30,7 @@ start() {
     for _ in $(seq 1 300); do
         base=$(grep -o 'listening on http://127.0.0.1:[0-9]*' "$log" | head -1 | sed 's/listening on //')
         if [[ -n $base ]] && [[ $(curl -s -o /dev/null -w '%{http_code}' "$base/readyz") == 200 ]]; then
-            echo "started $name at $base (pid $pid): $(grep -o 'ready: device "[^"]*", renderer warm in [0-9]* ms' "$log")"
+            echo "started $name at $base (pid $pid): $(grep -oE 'ready: [a-z]+ device "[^"]*", renderer warm in [0-9]* ms' "$log")"
             return 0
         fi
         sleep 0.1

@@ -46,7 +46,8 @@ A_log=$log
 export LUCENT_SERVER=$A
 
 run health
-check "health: exit 0, alive and ready with the device" eval '[ $rc = 0 ] && grep -q "^alive, ready: device \"" "$work/out"' 
+check "health: exit 0, alive and ready with the backend and device" \
+    eval '[ $rc = 0 ] && grep -qE "^alive, ready: (vulkan|gl) device \"" "$work/out"' 
 run materials
 check "materials: exit 0, 12 presets in the table ($(grep -cE '^[a-z0-9]+ +[0-9]' "$work/out"))" \
     [ "$rc" = 0 -a "$(grep -cE '^[a-z0-9]+ +[0-9]' "$work/out")" = 12 ]

@@ -73,7 +73,7 @@ base=http://127.0.0.1:$port
 for _ in $(seq 1 600); do [[ $(curl -s -o /dev/null -w '%{http_code}' "$base/readyz") == 200 ]] && break; sleep 0.2; done
 inner=$(pgrep -f "^/usr/local/bin/lucentd --listen 127.0.0.1 --port $port" | head -1)
 uid=$(awk '/^Uid:/ {print $2}' "/proc/${inner:-0}/status" 2>/dev/null)
-check "lucentd in the container is ready ($(grep -o 'ready: device "[^"]*"' "$work/C.log")) as uid ${uid:-?}" \
+check "lucentd in the container is ready ($(grep -oE 'ready: [a-z]+ device "[^"]*"' "$work/C.log")) as uid ${uid:-?}" \
     [ -n "$inner" -a "$uid" = 10001 ]
 health=$(sed -n 's/^HEALTHCHECK .*CMD \[\(.*\)\]$/\1/p' "$containerfile" | tr -d '",' | sed "s/:8080/:$port/")
 nsenter -t "$inner" -m chroot --userspec=10001:10001 "$rootfs" $health; rc=$?

@@ -62,7 +62,7 @@ A=$base
 A_pid=$pid
 
 c=$(req "$work/h" GET "$A/healthz"); check "healthz 200 ($c)" [ "$c" = 200 ]
-c=$(req "$work/r" GET "$A/readyz"); check "readyz 200 ($c) names the device" grep -q '"device"' "$work/r"
+c=$(req "$work/r" GET "$A/readyz"); check "readyz 200 ($c) names the backend and device" grep -qE '"backend": ?"(vulkan|gl)".*"device"' "$work/r"
 c=$(req "$work/o" GET "$A/openapi.json")
 check "openapi.json 200 ($c), OpenAPI 3 with every route" python3 -c '
 import json, sys
@@ -341,7 +341,8 @@ check "... each a valid, lit PNG of its own size" pngs "${files[@]}"
 
 # Metrics.
 curl -s "$A/metrics" >"$work/metrics"
-check "metrics: build info names the device" grep -q '^lucentd_build_info{version="[^"]*",device="[^"]\+"} 1' "$work/metrics"
+check "metrics: build info names the backend and device" \
+    grep -qE '^lucentd_build_info\{version="[^"]*",backend="(vulkan|gl)",device="[^"]+"\} 1' "$work/metrics"
 check "metrics: requests by route and status" grep -q '^lucentd_http_requests_total{route="render",code="200"} [1-9]' "$work/metrics"
 check "metrics: 4xx counted" grep -q '^lucentd_http_requests_total{route="render",code="413"} [1-9]' "$work/metrics"
 check "metrics: render histogram counts the parallel renders" awk '$1 == "lucentd_render_seconds_count{method=\"five\"}" && $2 >= 36 { f = 1 } END { exit !f }' "$work/metrics"
@@ -714,6 +715,16 @@ start H --store-dir "$work/storeH" --allowed-hosts 'render.example, lucent.inter
 c1=$(req "$work/h" GET "$base/v1/materials" -H "Host: lucent.internal:${base##*:}")
 c2=$(req "$work/h2" GET "$base/v1/materials")
 check "--allowed-hosts: lucent.internal served ($c1), 127.0.0.1 not ($c2)" [ "$c1" = 200 -a "$c2" = 421 ]
+stop "$pid"
+
+# Without a Vulkan driver (the loader pointed at none), the automatic backend is OpenGL through EGL: the daemon
+# says so and why, and serves the same API on it.
+VK_ICD_FILENAMES=/nonexistent start G --store-dir "$work/storeG"
+c=$(req "$work/g.png" GET "$base/v1/render?mesh=bunny&w=96&h=80")
+check "no Vulkan driver: ready on OpenGL (logged why), /readyz and Lucent-Modelled name it, a render ($c)" \
+    eval 'grep -q "no Vulkan device (.*); trying OpenGL through EGL" "$log" && grep -q "ready: gl device" "$log" &&
+          curl -s "$base/readyz" | grep -q "\"backend\": *\"gl\"" && grep -qi "^Lucent-Modelled: .*\"backend\":\"gl\"" "$work/g.png.h" &&
+          pngs "$work/g.png:96:80"'
 stop "$pid"
 
 echo "whole test: $SECONDS s"

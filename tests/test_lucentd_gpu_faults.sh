@@ -32,7 +32,7 @@ t0=$(date +%s%N)
 for _ in $(seq 1 600); do [[ $(ready) == 200 ]] && break; sleep 0.1; done
 check "/readyz 200 again after $(( ($(date +%s%N) - t0) / 1000000 )) ms (the first re-creation lost too, retried)" [ "$(ready)" = 200 ]
 check "the log tells the loss, the failed retry and the new renderer" \
-    bash -c "grep -q 're-creating the renderer\$' '$log' && grep -q 'retrying in 1 s' '$log' && grep -q 'renderer re-created on device' '$log'"
+    bash -c "grep -q 're-creating the renderer\$' '$log' && grep -q 'retrying in 1 s' '$log' && grep -q 'renderer re-created on vulkan device' '$log'"
 c=$(render apple)
 check "frame 6, submit fails: $c of type $(type_of "$work/apple.png")" [ "$c" = 500 -a "$(type_of "$work/apple.png")" = render-failed ]
 c=$(render cream)
