@@ -12,7 +12,7 @@ sudo_cmd=()
 packages=(
   build-essential cmake pkg-config git ca-certificates
   libvulkan-dev mesa-vulkan-drivers vulkan-tools glslang-tools vulkan-validationlayers
-  libegl-dev
+  libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   libjansson-dev
   libassimp-dev assimp-testmodels
   libmeshoptimizer-dev

@@ -1,9 +1,10 @@
 /* test_renderer_memory.c - a warm renderer must not grow: three renderers in turn (sharing the process's
- * device), 100 frames each; nor with every pipeline variant a client can ask for; nor its device memory
+ * device), 200 frames each; nor with every pipeline variant a client can ask for; nor its device memory
  * across sizes. Resident memory is sampled from /proc after warm-up and at the end. */
 #include "test_support.h"
 
 #include <malloc.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
@@ -26,23 +27,27 @@ static const char *scenes[] = {
     "{\"mesh\":{\"builtin\":\"torus\"},\"width\":64,\"height\":64,\"projection_size\":64,\"method\":\"single\"}",
 };
 
-/* Returns the growth (MiB) between frame 10 and frame 100. */
+/* Returns the growth (MiB) between frames 100..109 and 190..199, each the least RSS seen over those frames: a
+ * leak raises it, while a driver's transient buffers come and go (llvmpipe's swing 1.6 MiB between frames,
+ * and its caches grow for about 100 frames, then stay flat: measured over 1000). */
 static double run_renderer(int round, double *end_rss)
 {
     lucent_renderer *r = test_renderer();
-    double warm = 0.0;
-    for (int frame = 0; frame < 100; frame++) {
+    double warm = 1e30, late = 1e30;
+    for (int frame = 0; frame < 200; frame++) {
         lucent_image img;
         test_render(r, scenes[frame % 2], &img, NULL);
         lucent_image_free(&img);
-        if (frame == 9)
-            warm = rss_mib();
+        if (frame >= 100 && frame < 110)
+            warm = fmin(warm, rss_mib());
+        if (frame >= 190)
+            late = fmin(late, rss_mib());
     }
     *end_rss = rss_mib();
     lucent_renderer_destroy(r);
-    printf("     renderer %d: RSS %.1f MiB after 10 frames, %.1f MiB after 100, %.1f MiB after destroy\n", round,
-           warm, *end_rss, rss_mib());
-    return *end_rss - warm;
+    printf("     renderer %d: RSS at least %.1f MiB over frames 100..109, %.1f over 190..199, %.1f after 200, %.1f after "
+           "destroy\n", round, warm, late, *end_rss, rss_mib());
+    return late - warm;
 }
 
 /* The mesh cache keeps within its byte budget by evicting the least recently used meshes, and refuses
@@ -131,7 +136,7 @@ int main(void)
     double end[3], growth[3];
     for (int i = 0; i < 3; i++) {
         growth[i] = run_renderer(i + 1, &end[i]);
-        test_check(growth[i] < 2.0, "renderer %d grew %.2f MiB over frames 10..100 (limit 2)", i + 1, growth[i]);
+        test_check(growth[i] < 2.0, "renderer %d grew %.2f MiB from frames 100..109 to 190..199 (limit 2)", i + 1, growth[i]);
     }
     /* lavapipe's code generator keeps a second slab the first time a renderer is re-created (about
      * 23 MiB, measured; it never frees JIT memory pools; here the checks above have re-created one

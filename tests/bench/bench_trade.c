@@ -66,6 +66,7 @@ enum { T_TOTAL, T_SHADOW, T_PROJECTION, T_GBUFFER, T_SCATTER, T_READBACK, T_COUN
 
 struct options {
     const char *prefix;
+    const char *backend;                /* --backend; NULL: $LUCENT_BACKEND, else auto */
     const char *mesh_file[MESH_COUNT];  /* the meshes given as files: the bunny, and the cube and slab written here */
     char cube_path[4096], slab_path[4096];
     int frames, size_count;
@@ -92,6 +93,7 @@ enum { SUMMARY_MEDIANS = 6 };
 struct outputs {
     FILE *csv, *md, *tsv;
     char device[sizeof(((lucent_stats *)0)->device)];   /* as the renders report it */
+    const char *backend;
 };
 
 static struct case_id case_of(int index)
@@ -119,12 +121,14 @@ static void case_label(int index, char *buf, size_t cap)
 
 static int usage(void)
 {
-    fprintf(stderr, "usage: bench_trade [--quick] [--frames F] [--lights L,...] [--modes M,...] BUNNY.obj OUT_PREFIX\n"
+    fprintf(stderr, "usage: bench_trade [--quick] [--frames F] [--lights L,...] [--modes M,...] [--backend B]\n"
+                    "                   BUNNY.obj OUT_PREFIX\n"
                     "  writes OUT_PREFIX.csv, OUT_PREFIX.md, OUT_PREFIX_summary.tsv (for plot_trade.sh) and\n"
                     "  OUT_PREFIX_cube.obj and OUT_PREFIX_slab.obj (the meshes it writes and renders);\n"
                     "  --quick: 256x256 only (default 256 and 512); F: timed warm frames per mode (default 5);\n"
                     "  --lights, --modes: only these (comma-separated names as in the report, default all;\n"
-                    "  the paper's claim and the cube table need the side light and their modes)\n");
+                    "  the paper's claim and the cube table need the side light and their modes);\n"
+                    "  B: vulkan, gl or auto (bench_table2 compares backends within one run)\n");
     return 2;
 }
 
@@ -173,6 +177,9 @@ static int parse_options(int argc, char **argv, struct options *o)
             o->frames = (int)f;
         } else if (strcmp(argv[i], "--lights") == 0 && i + 1 < argc) {
             if (!(o->lights = parse_names(argv[++i], light_name, (int)N(lights))))
+                return -1;
+        } else if (strcmp(argv[i], "--backend") == 0 && i + 1 < argc) {
+            if (!lucent_backend_valid(o->backend = argv[++i]))
                 return -1;
         } else if (strcmp(argv[i], "--modes") == 0 && i + 1 < argc) {
             if (!(o->modes = parse_names(argv[++i], mode_name, MODES)))
@@ -451,7 +458,8 @@ static void write_report(const struct options *o, const struct result *res, cons
         used += (size_t)snprintf(names + used, sizeof names - used, "%s%s", m ? ", " : "", meshes[m].name);
     char cpu[256];
     cpu_model(cpu, sizeof cpu);
-    emit(out->md, "## Speed/accuracy trade against method \"reference\"\n\nCPU: %s; device: %s.\n\n", cpu, out->device);
+    emit(out->md, "## Speed/accuracy trade against method \"reference\"\n\nCPU: %s; backend %s, device: %s.\n\n", cpu,
+         out->backend, out->device);
     emit(out->md, "Per mode: median over %d cases (%d meshes: %s; x %d lights x %d materials) of the warm frame "
                   "time (median of %d frames after 1 warm-up), of the relative L2 error, whole object and "
                   "silhouette band (normal 70-90 degrees from the view), of the noise (high-pass error "
@@ -530,14 +538,15 @@ int main(int argc, char **argv)
     struct outputs out = {0};
     struct result *res = calloc((size_t)o.size_count * CASES_PER_SIZE * MODES, sizeof *res);
     lucent_error err = {0};
-    lucent_renderer_desc desc = {.verbose = 0};
+    lucent_renderer_desc desc = {.backend = o.backend, .verbose = 0};
     lucent_renderer *r = NULL;
     int rc = 1;
     if (!res)
         fprintf(stderr, "bench_trade: out of memory\n");
     else if (!(r = lucent_renderer_create(&desc, &err)))
         fprintf(stderr, "bench_trade: %s\n", err.message);
-    else if (open_outputs(o.prefix, &out) == 0 && run(r, &o, res, &out) == 0)
+    else if ((out.backend = lucent_renderer_backend(r)) && open_outputs(o.prefix, &out) == 0 &&
+             run(r, &o, res, &out) == 0)
         rc = 0;
     if (close_outputs(&out) != 0 && rc == 0) {
         fprintf(stderr, "bench_trade: writing %s.* failed\n", o.prefix);
