@@ -1,5 +1,5 @@
-/* view_frame.h - an eye, an orthonormal basis and a projection: the camera, the five projection
- * images and the shadow maps are all one of these. Vulkan clip conventions (y down, depth 0..1). */
+/* view_frame.h - an eye, an orthonormal basis and a projection: the camera, the five projection images and
+ * the shadow maps are all one of these. Vulkan's clip conventions (y down, depth 0..1), OpenGL's too. */
 #ifndef LUCENT_VIEW_FRAME_H
 #define LUCENT_VIEW_FRAME_H
 
