@@ -47,7 +47,7 @@ const SLIDERS = [
   { key: 'view_azimuth', parent: 'view-sliders', label: 'azimuth (degrees)', scale: linearScale(-180, 180, 1) },
   { key: 'view_elevation', parent: 'view-sliders', label: 'elevation (degrees)', scale: linearScale(-85, 85, 1) },
 ];
-// The daemon's automatic camera: from the front left and above (renderer/scene_parse.c).
+// The daemon's automatic camera: from the front left and above (renderer/core/scene_parse.c).
 const DEFAULT_VIEW = { view_azimuth: -35, view_elevation: 25 };
 const DRAG_DEGREES_PER_PIXEL = 0.5;
 

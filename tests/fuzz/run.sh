@@ -19,15 +19,16 @@ targets=("$@")
 command -v clang >/dev/null || { echo "$0: clang not found (apt-get install clang libclang-rt-14-dev)" >&2; exit 2; }
 
 r=$top/renderer s=$top/server
+c=$r/core m=$r/mesh i=$r/image
 # Each target is fuzz_TARGET.c and these sources (.c as C11, .cpp as C++17), linked with clang++ (assimp
 # and OpenImageIO are C++) against its pkg-config packages.
 declare -A sources=(
-    [scene]="$r/scene_parse.c $r/material_presets.c $r/error.c"
-    [query]="$s/scene_query.c $s/url_unescape.c $r/scene_parse.c $r/material_presets.c $r/error.c"
-    [sniff]="$s/mesh_format_sniff.c $r/error.c"
-    [lmesh]="$r/mesh_compact.c $r/mesh.c $r/mesh_closed.c $r/error.c"
-    [import]="$here/sandbox_new.cpp $r/mesh_import.c $r/mesh.c $r/mesh_closed.c $r/mesh_compact.c $r/error.c $s/mesh_bundle.c"
-    [image]="$r/image_io.cpp $r/image.c $r/image_compare.c $r/json_text.c $r/error.c"
+    [scene]="$c/scene_parse.c $c/material_presets.c $c/error.c"
+    [query]="$s/scene_query.c $s/url_unescape.c $c/scene_parse.c $c/material_presets.c $c/error.c"
+    [sniff]="$s/mesh_format_sniff.c $c/error.c"
+    [lmesh]="$m/mesh_compact.c $m/mesh.c $m/mesh_closed.c $c/error.c"
+    [import]="$here/sandbox_new.cpp $m/mesh_import.c $m/mesh.c $m/mesh_closed.c $m/mesh_compact.c $c/error.c $s/mesh_bundle.c"
+    [image]="$i/image_io.cpp $i/image.c $i/image_compare.c $c/json_text.c $c/error.c"
 )
 declare -A packages=([import]="assimp jansson" [image]="OpenImageIO jansson")
 # libFuzzer flags beyond the common ones (later flags win). import: assimp's refusals are logged to
@@ -51,7 +52,7 @@ declare -A environment=(
 )
 # shellcheck disable=SC2054  # the commas separate sanitizers, not array elements
 common=(-g -O1 -fno-omit-frame-pointer -Wall -Wextra -Werror -fsanitize=fuzzer,address,undefined
-        -fno-sanitize-recover=all -D_POSIX_C_SOURCE=200809L -I"$r" -I"$s")
+        -fno-sanitize-recover=all -D_POSIX_C_SOURCE=200809L -I"$r" -I"$c" -I"$m" -I"$i" -I"$s")
 mkdir -p "$out"
 for t in "${targets[@]}"; do
     [[ -n ${sources[$t]:-} ]] || { echo "$0: unknown target $t" >&2; exit 2; }

@@ -25,9 +25,11 @@ static int has_extension(const char *list, const char *name)
 
 lucent_status egl_context_create(const struct egl_device *dev, EGLContext *out, lucent_error *err)
 {
+    /* The debug attribute is EGL 1.5's: asked for only when wanted, so an EGL 1.4 display still works. */
     EGLint attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5, EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_CONTEXT_OPENGL_DEBUG,
-                      gl_validation_enabled() ? EGL_TRUE : EGL_FALSE, EGL_NONE};
+                      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE, EGL_TRUE, EGL_NONE};
+    if (gl_validation_enabled())
+        attrs[6] = EGL_CONTEXT_OPENGL_DEBUG;
     if (!eglBindAPI(EGL_OPENGL_API))
         return egl_fail("eglBindAPI(EGL_OPENGL_API)", err);
     *out = eglCreateContext(dev->display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attrs);
