@@ -62,6 +62,8 @@ lucent_status lucent_io_status(int errnum);
 #define LUCENT_MAX_INTENSITY 1.0e12
 #define LUCENT_MAX_EXPOSURE 64.0     /* stops, either way */
 #define LUCENT_MAX_REFERENCE_POINTS 4000000u
+#define LUCENT_MAX_PATH_SAMPLES 65536u     /* method "path": walks per pixel and channel */
+#define LUCENT_MAX_PATH_TIME_S 86400.0
 #define LUCENT_MAX_G 0.95             /* |g|: sigma_s = sigma_s' / (1 - g) grows without bound at 1 */
 #define LUCENT_MAX_COORD 1.0e15       /* |x| of positions and directions: squared lengths stay finite */
 #define LUCENT_MAX_COLOR 1.0e6
@@ -72,10 +74,14 @@ lucent_status lucent_io_status(int errnum);
 /* five, single: the image-space method (GPU); reference: the model without image-space shortcuts,
  * on the CPU in double precision (the ground truth the others are scored against); auto: the
  * image-space method with views, samples, sampling scheme and projection size chosen from the
- * scene (the choices are reported in lucent_stats.modelled). */
+ * scene (the choices are reported in lucent_stats.modelled); path: light's transport in the medium
+ * itself by Monte Carlo random walks on the CPU (no diffusion approximation; noisy, slow). */
 typedef enum lucent_method {
-    LUCENT_METHOD_FIVE = 0, LUCENT_METHOD_SINGLE, LUCENT_METHOD_REFERENCE, LUCENT_METHOD_AUTO
+    LUCENT_METHOD_FIVE = 0, LUCENT_METHOD_SINGLE, LUCENT_METHOD_REFERENCE, LUCENT_METHOD_AUTO, LUCENT_METHOD_PATH
 } lucent_method;
+/* Method "path"'s surface (renderer/reference/path.c): fresnel, a smooth dielectric of index eta with
+ * internal reflection; cycles, Blender Cycles' random walk (diffuse entry and exit, no Fresnel). */
+typedef enum lucent_path_boundary { LUCENT_PATH_FRESNEL = 0, LUCENT_PATH_CYCLES } lucent_path_boundary;
 /* Where a pixel's point hidden in its best-facing view is integrated: next_best tries the other
  * facing views in order of n.v, then the front; front is the paper's choice. */
 typedef enum lucent_fallback { LUCENT_FALLBACK_NEXT_BEST = 0, LUCENT_FALLBACK_FRONT } lucent_fallback;
@@ -146,6 +152,11 @@ typedef struct lucent_scene {
     uint32_t reference_points;     /* irradiance points over the surface; 0 = automatic */
     double reference_threshold;    /* hierarchical sum's node size / distance; 0 = brute force,
                                     * < 0 = default */
+    /* method "path" only */
+    uint32_t path_samples;         /* walks per pixel and channel */
+    double path_time_s;            /* 0: none; else no further pass starts after this long */
+    lucent_path_boundary path_boundary;
+    uint32_t path_seed;
 } lucent_scene;
 
 /* Fills every field with its documented default. */

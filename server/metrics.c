@@ -10,7 +10,7 @@
 
 #define STATUS_MIN 100
 #define STATUS_COUNT 500
-#define METHOD_COUNT 5  /* five, single, reference, auto, other */
+#define METHOD_COUNT 6  /* five, single, reference, auto, path, other */
 
 /* Seconds: from a cached small render (ms) to a slow reference render (a minute). */
 static const double bounds[] = {0.001, 0.0025, 0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1, 2.5, 5, 10, 30, 60};
@@ -44,10 +44,11 @@ static int method_index(lucent_method m)
     case LUCENT_METHOD_SINGLE: return 1;
     case LUCENT_METHOD_REFERENCE: return 2;
     case LUCENT_METHOD_AUTO: return 3;
-    default: return 4;
+    case LUCENT_METHOD_PATH: return 4;
+    default: return 5;
     }
 }
-static const char *const method_labels[METHOD_COUNT] = {"five", "single", "reference", "auto", "other"};
+static const char *const method_labels[METHOD_COUNT] = {"five", "single", "reference", "auto", "path", "other"};
 
 struct metrics *metrics_create(const char *const *route_names, int route_count)
 {

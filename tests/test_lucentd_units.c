@@ -80,6 +80,11 @@ static const char *const variants[] = {
     "{\"format\":\"exr\"}",
     "{\"method\":\"reference\",\"reference\":{\"points\":2000}}",
     "{\"method\":\"reference\",\"reference\":{\"threshold\":0.5}}",
+    "{\"method\":\"path\"}",
+    "{\"method\":\"path\",\"path\":{\"samples\":4}}",
+    "{\"method\":\"path\",\"path\":{\"time_s\":2}}",
+    "{\"method\":\"path\",\"path\":{\"boundary\":\"cycles\"}}",
+    "{\"method\":\"path\",\"path\":{\"seed\":7}}",
 };
 #define VARIANTS ((int)(sizeof variants / sizeof variants[0]))
 

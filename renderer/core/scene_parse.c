@@ -52,6 +52,7 @@ static const range R_G = {-LUCENT_MAX_G, LUCENT_MAX_G, 0, "sigma_s = sigma_s' / 
 
 #define DEFAULT_SIDE 512
 #define DEFAULT_SAMPLES 16
+#define DEFAULT_PATH_SAMPLES 16   /* walks per pixel and channel of method "path" */
 #define DEFAULT_PROJECTION 512
 #define DEFAULT_FOV_DEG 40.0
 /* The automatic camera's default: from the front left and above, as model viewers frame an object, so
@@ -70,7 +71,9 @@ static const char *const light_type_names[] = {
     [LUCENT_LIGHT_DIRECTIONAL] = "directional", [LUCENT_LIGHT_POINT] = "point", NULL};
 static const char *const method_names[] = {
     [LUCENT_METHOD_FIVE] = "five", [LUCENT_METHOD_SINGLE] = "single", [LUCENT_METHOD_REFERENCE] = "reference",
-    [LUCENT_METHOD_AUTO] = "auto", NULL};
+    [LUCENT_METHOD_AUTO] = "auto", [LUCENT_METHOD_PATH] = "path", NULL};
+static const char *const path_boundary_names[] = {
+    [LUCENT_PATH_FRESNEL] = "fresnel", [LUCENT_PATH_CYCLES] = "cycles", NULL};
 static const char *const fallback_names[] = {
     [LUCENT_FALLBACK_NEXT_BEST] = "next_best", [LUCENT_FALLBACK_FRONT] = "front", NULL};
 /* Fields method "auto" chooses itself; giving one with it is a conflict, not silently ignored. */
@@ -84,9 +87,10 @@ static const char *const format_names[] = {
 static const char *const top_keys[] = {"mesh", "scale_mm", "material", "lights", "camera",
                                        "width", "height", "method", "samples", "sampling",
                                        "projection_size", "side_projection_size", "background",
-                                       "exposure", "format", "reference", "fallback",
+                                       "exposure", "format", "reference", "path", "fallback",
                                        "single_scattering", NULL};
 static const char *const reference_keys[] = {"points", "threshold", NULL};
+static const char *const path_keys[] = {"samples", "time_s", "boundary", "seed", NULL};
 static const char *const mesh_keys[] = {"builtin", "triangles", "file", "id", NULL};
 static const char *const material_keys[] = {"preset", "sigma_a", "sigma_s_prime", "eta", "g", NULL};
 static const char *const directional_keys[] = {"type", "direction", "color", "intensity", NULL};
@@ -752,6 +756,33 @@ static lucent_status parse_reference(json_t *v, lucent_scene *s, lucent_error *e
     return st;
 }
 
+/* Options of method "path": {"samples": 1..65536, "time_s": 0 (none) .. 86400, "boundary": "fresnel" or
+ * "cycles", "seed": 0..2^31-1}. */
+static lucent_status parse_path(json_t *v, lucent_scene *s, lucent_error *err)
+{
+    static const range samples = {1, LUCENT_MAX_PATH_SAMPLES, 0, NULL};
+    static const range time_s = {0.0, LUCENT_MAX_PATH_TIME_S, 0, "0 sets no time limit"};
+    static const range seed = {0, 2147483647.0, 0, NULL};
+    int count = (int)s->path_samples, boundary = (int)s->path_boundary, seed_value = (int)s->path_seed;
+    if (!v)
+        return LUCENT_OK;
+    lucent_status st = require_object(v, "path", err);
+    if (st == LUCENT_OK)
+        st = check_known_keys(v, path_keys, "path", err);
+    if (st == LUCENT_OK)
+        st = get_int(v, "path", "samples", &samples, &count, err);
+    if (st == LUCENT_OK)
+        st = get_number(v, "path", "time_s", &time_s, &s->path_time_s, err);
+    if (st == LUCENT_OK)
+        st = get_enum(v, "path", "boundary", path_boundary_names, &boundary, err);
+    if (st == LUCENT_OK)
+        st = get_int(v, "path", "seed", &seed, &seed_value, err);
+    s->path_samples = (uint32_t)count;
+    s->path_boundary = (lucent_path_boundary)boundary;
+    s->path_seed = (uint32_t)seed_value;
+    return st;
+}
+
 static lucent_status parse_document(json_t *doc, int allow_files, lucent_scene *s,
                                     lucent_error *err)
 {
@@ -776,6 +807,8 @@ static lucent_status parse_document(json_t *doc, int allow_files, lucent_scene *
         st = parse_output(doc, s, err);
     if (st == LUCENT_OK)
         st = parse_reference(json_object_get(doc, "reference"), s, err);
+    if (st == LUCENT_OK)
+        st = parse_path(json_object_get(doc, "path"), s, err);
     return st;
 }
 
@@ -803,6 +836,7 @@ void lucent_scene_defaults(lucent_scene *scene)
     scene->projection_size = DEFAULT_PROJECTION;
     scene->format = LUCENT_FORMAT_PNG;
     scene->reference_threshold = -1.0;
+    scene->path_samples = DEFAULT_PATH_SAMPLES;
 }
 
 lucent_status lucent_scene_parse(const char *json, size_t len, int allow_files, lucent_scene *out,

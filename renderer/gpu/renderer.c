@@ -5,6 +5,7 @@
 #include "gpu.h"
 #include "json_text.h"
 #include "mesh_cache.h"
+#include "path.h"
 #include "reference.h"
 
 #include <math.h>
@@ -154,7 +155,7 @@ uint64_t lucent_renderer_max_pixels(const lucent_renderer *r)
 static lucent_status check_device_limits(const lucent_renderer *r, const lucent_scene *s, lucent_error *err)
 {
     uint64_t pixels = (uint64_t)s->width * (uint64_t)s->height, max = lucent_renderer_max_pixels(r);
-    if (s->method == LUCENT_METHOD_REFERENCE || pixels <= max)
+    if (s->method == LUCENT_METHOD_REFERENCE || s->method == LUCENT_METHOD_PATH || pixels <= max)
         return LUCENT_OK;
     return lucent_fail(err, LUCENT_E_LIMIT, "width",
                        "a %dx%d image is %llu pixels; this device (%s) renders at most %llu (%s)",
@@ -206,6 +207,7 @@ static const char *method_name(lucent_method m)
     case LUCENT_METHOD_SINGLE: return "single";
     case LUCENT_METHOD_REFERENCE: return "reference";
     case LUCENT_METHOD_AUTO: return "auto";
+    case LUCENT_METHOD_PATH: return "path";
     default: return "five";
     }
 }
@@ -252,15 +254,23 @@ static void describe(const lucent_scene *requested, const lucent_scene *s, const
     stats->views = plan->view_count;
 }
 
+/* What the CPU methods share with the raster passes: the camera and the scale. */
+static lucent_status cpu_view(const lucent_scene *scene, const struct gpu_mesh *gm, struct view_frame *camera,
+                              double *scale_mm, lucent_error *err)
+{
+    *scale_mm = frame_scale_mm(scene, gm->mesh);
+    return frame_camera(scene, gm->mesh, camera, err);
+}
+
 /* method "reference": the CPU integrator on the cached mesh, with the same camera and AOVs. */
 static lucent_status render_reference(lucent_renderer *r, const lucent_scene *scene, const struct gpu_mesh *gm,
                                       lucent_image *out, lucent_stats *stats, lucent_error *err)
 {
     struct view_frame camera;
-    lucent_status st = frame_camera(scene, gm->mesh, &camera, err);
+    double scale_mm;
+    lucent_status st = cpu_view(scene, gm, &camera, &scale_mm, err);
     if (st != LUCENT_OK)
         return st;
-    double scale_mm = frame_scale_mm(scene, gm->mesh);
     struct reference_options options = {.points = scene->reference_points,
                                         .brute_force = scene->reference_threshold == 0.0,
                                         .threshold = fmax(scene->reference_threshold, 0.0),
@@ -278,6 +288,34 @@ static lucent_status render_reference(lucent_renderer *r, const lucent_scene *sc
              scale_mm, report.points, report.point_spacing_mm, report.min_mean_free_path_mm,
              options.brute_force ? "brute force" : "hierarchical", report.threshold, report.estimated_rel_error,
              report.ms_points, report.ms_pixels, scene->single_scattering ? "true" : "false");
+    return LUCENT_OK;
+}
+
+/* method "path": random walks in the medium on the CPU, with the same camera and AOVs. */
+static lucent_status render_path(lucent_renderer *r, const lucent_scene *scene, const struct gpu_mesh *gm,
+                                 lucent_image *out, lucent_stats *stats, lucent_error *err)
+{
+    struct view_frame camera;
+    double scale_mm;
+    lucent_status st = cpu_view(scene, gm, &camera, &scale_mm, err);
+    if (st != LUCENT_OK)
+        return st;
+    struct path_options options = {.samples = scene->path_samples, .time_s = scene->path_time_s,
+                                   .boundary = scene->path_boundary, .seed = scene->path_seed,
+                                   .cancel = &r->cancel};
+    struct path_report report;
+    st = path_render(scene, gm->mesh, &camera, scale_mm, &options, scene->format == LUCENT_FORMAT_EXR, out, &report,
+                     err);
+    if (st != LUCENT_OK)
+        return st;
+    stats->triangles = gm->mesh->triangle_count;
+    snprintf(stats->modelled, sizeof stats->modelled,
+             "{\"method\":\"path\",\"backend\":\"cpu\",\"scale_mm\":%.9g,\"boundary\":\"%s\",\"samples\":%u,"
+             "\"samples_asked\":%u,\"seed\":%u,\"rel_std_error\":%.4g,\"mean_steps\":%.4g,\"escaped_share\":%.4g,"
+             "\"ms_walks\":%.3f}",
+             scale_mm, scene->path_boundary == LUCENT_PATH_CYCLES ? "cycles" : "fresnel", report.samples,
+             scene->path_samples, scene->path_seed, report.rel_std_error, report.mean_steps, report.escaped_share,
+             report.ms);
     return LUCENT_OK;
 }
 
@@ -301,8 +339,9 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
         (st = gpu_settle(r->gpu, err)) ||
         (st = mesh_cache_get(r->gpu, &r->meshes, &scene->mesh, &gm, &stats->ms_mesh_load, err)))
         return st;
-    if (scene->method == LUCENT_METHOD_REFERENCE) {
-        st = render_reference(r, scene, gm, out, stats, err);
+    if (scene->method == LUCENT_METHOD_REFERENCE || scene->method == LUCENT_METHOD_PATH) {
+        st = scene->method == LUCENT_METHOD_PATH ? render_path(r, scene, gm, out, stats, err)
+                                                 : render_reference(r, scene, gm, out, stats, err);
         stats->ms_total = now_ms() - t0;
         return st;
     }

@@ -4,16 +4,15 @@
 #include "clock_ms.h"
 
 #include "bvh.h"
+#include "parallel.h"
 #include "reference_single.h"
 #include "dipole.h"
 #include "linalg.h"
 
 #include <float.h>
-#include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <time.h>
-#include <unistd.h>
 
 /* frac(j / phi): the second coordinate of each point; with the first one stratified along the
  * cumulative area this makes a Fibonacci-like lattice inside every triangle. */
@@ -32,7 +31,6 @@
 #define NEAR_SPACINGS 1.5
 #define LEAF_POINTS 8
 #define MAX_TREE_DEPTH 60
-#define MAX_THREADS 64
 /* Shadow rays start this far (times the mesh radius) off the surface so they miss their own triangle. */
 #define SHADOW_OFFSET 1e-6
 
@@ -73,54 +71,9 @@ struct context {
     const atomic_int *cancel;
 };
 
-/* ---- threads: items are handed out in chunks; each item's result depends only on the item ---- */
-
-typedef void (*range_fn)(struct context *ctx, size_t begin, size_t end);
-
-struct job {
-    struct context *ctx;
-    range_fn fn;
-    size_t count, chunk;
-    atomic_size_t next;
-};
-
 static int cancelled(const struct context *ctx)
 {
     return ctx->cancel && atomic_load(ctx->cancel);
-}
-
-/* A cancelled render stops within a chunk of every parallel phase (1024 points, one row). */
-static void *job_worker(void *arg)
-{
-    struct job *job = arg;
-    for (;;) {
-        size_t begin = atomic_fetch_add(&job->next, job->chunk);
-        if (begin >= job->count || cancelled(job->ctx))
-            return NULL;
-        size_t end = begin + job->chunk < job->count ? begin + job->chunk : job->count;
-        job->fn(job->ctx, begin, end);
-    }
-}
-
-/* A thread that cannot be started only costs speed, never the result: the others take its share. */
-static void run_parallel(struct context *ctx, int threads, size_t count, size_t chunk, range_fn fn)
-{
-    struct job job = {.ctx = ctx, .fn = fn, .count = count, .chunk = chunk};
-    atomic_init(&job.next, 0);
-    pthread_t tid[MAX_THREADS];
-    int started = 0;
-    for (int i = 1; i < threads; i++)
-        if (pthread_create(&tid[started], NULL, job_worker, &job) == 0)
-            started++;
-    job_worker(&job);
-    for (int i = 0; i < started; i++)
-        pthread_join(tid[i], NULL);
-}
-
-static int thread_count(const struct reference_options *o)
-{
-    long n = o->threads > 0 ? o->threads : sysconf(_SC_NPROCESSORS_ONLN);
-    return n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
 }
 
 /* ---- geometry ---- */
@@ -148,30 +101,20 @@ static void irradiance(const struct context *ctx, const double p[3], const doubl
     v3_scale_add(p, g, SHADOW_OFFSET * ctx->mesh->radius, origin);
     e[0] = e[1] = e[2] = 0.0;
     for (int l = 0; l < ctx->light_count; l++) {
-        const struct ref_light *light = &ctx->lights[l];
-        double dir[3], falloff = 1.0, t_max = INFINITY;
-        if (light->point) {
-            for (int a = 0; a < 3; a++)
-                dir[a] = light->vec[a] - p[a];
-            t_max = v3_normalize(dir);
-            falloff = 1.0 / fmax(t_max * t_max, DBL_MIN);
-        } else {
-            for (int a = 0; a < 3; a++)
-                dir[a] = -light->vec[a];
-        }
-        double cos_l = v3_dot(n, dir);
-        if (cos_l <= 0.0 || (ctx->shadows && bvh_occluded(ctx->bvh, origin, dir, t_max)))
+        double cos_l, arrival = ref_light_arrival(&ctx->lights[l], ctx->bvh, ctx->shadows, p, n, origin, &cos_l);
+        if (arrival == 0.0)
             continue;
-        double k = falloff * cos_l * fresnel_transmittance(ctx->eta, cos_l);
+        double k = arrival * fresnel_transmittance(ctx->eta, cos_l);
         for (int c = 0; c < 3; c++)
-            e[c] += light->rgb[c] * k;
+            e[c] += ctx->lights[l].rgb[c] * k;
     }
 }
 
 /* Point j sits at u_j = (j + 1/2) / N along the cumulative area; its position inside the chosen
  * triangle is (s, frac(j / phi)) mapped area-preservingly (s = how far u_j is through the triangle). */
-static void make_points(struct context *ctx, size_t begin, size_t end)
+static void make_points(void *arg, size_t begin, size_t end)
 {
+    struct context *ctx = arg;
     double n_inv = 1.0 / (double)ctx->point_count;
     double area_mm2 = ctx->total_area * n_inv * ctx->scale_mm * ctx->scale_mm;
     for (size_t j = begin; j < end; j++) {
@@ -473,8 +416,9 @@ static void shade_pixel(struct context *ctx, int x, int y)
     img->facing[i] = (float)facing;
 }
 
-static void shade_rows(struct context *ctx, size_t begin, size_t end)
+static void shade_rows(void *arg, size_t begin, size_t end)
 {
+    struct context *ctx = arg;
     for (size_t y = begin; y < end; y++)
         for (int x = 0; x < ctx->out->width; x++)
             shade_pixel(ctx, x, (int)y);
@@ -504,20 +448,8 @@ static lucent_status check_inputs(const lucent_scene *scene, const struct lucent
 
 static lucent_status set_up_lights(struct context *ctx, lucent_error *err)
 {
-    const lucent_scene *s = ctx->scene;
-    ctx->light_count = s->light_count;
-    for (int l = 0; l < s->light_count; l++) {
-        const lucent_light *in = &s->lights[l];
-        struct ref_light *out = &ctx->lights[l];
-        out->point = in->type == LUCENT_LIGHT_POINT;
-        for (int a = 0; a < 3; a++) {
-            out->vec[a] = out->point ? in->position[a] - ctx->mesh->center[a] : in->direction[a];
-            out->rgb[a] = in->color[a] * in->intensity;
-        }
-        if (!out->point && v3_normalize(out->vec) == 0.0)
-            return lucent_fail(err, LUCENT_E_INVALID, "lights.direction", "light %d has a zero direction", l);
-    }
-    return LUCENT_OK;
+    ctx->light_count = ctx->scene->light_count;
+    return ref_lights_from_scene(ctx->scene, ctx->mesh, ctx->lights, err);
 }
 
 static lucent_status alloc_points(struct context *ctx, lucent_error *err)
@@ -571,7 +503,7 @@ lucent_status reference_render(const lucent_scene *scene, const struct lucent_me
     /* Convex meshes cannot shadow themselves; a shadow ray there would only darken the terminator
      * where interpolated normals face the light and flat facets do not (the raster pass skips too). */
     ctx.shadows = !mesh->convex;
-    int threads = thread_count(options);
+    int threads = parallel_threads(options->threads);
     double t0 = now_ms();
     if ((st = set_up_lights(&ctx, err)) || (st = cumulative_area(&ctx, err)) ||
         (st = choose_point_count(&ctx, options->points, err)) || (st = bvh_build(mesh, &ctx.bvh, err)) ||
@@ -584,13 +516,13 @@ lucent_status reference_render(const lucent_scene *scene, const struct lucent_me
     single_scatter_material(&ctx.ss, &scene->material);
     ctx.point_area_mm2 = ctx.total_area / (double)ctx.point_count * scale_mm * scale_mm;
     ctx.near_radius = NEAR_SPACINGS * sqrt(ctx.total_area / (double)ctx.point_count);
-    run_parallel(&ctx, threads, ctx.point_count, 1024, make_points);
+    parallel_run(&ctx, threads, ctx.point_count, 1024, make_points, ctx.cancel);
     if (cancelled(&ctx))
         goto cancel;
     if (!ctx.brute_force && (st = build_point_tree(&ctx, err)) != LUCENT_OK)
         goto fail;
     double t1 = now_ms();
-    run_parallel(&ctx, threads, (size_t)out->height, 1, shade_rows);
+    parallel_run(&ctx, threads, (size_t)out->height, 1, shade_rows, ctx.cancel);
     if (cancelled(&ctx))
         goto cancel;
     double area_mm2 = ctx.total_area * scale_mm * scale_mm;

@@ -43,16 +43,8 @@ static double henyey_greenstein(double g, double mu)
 static void lit_from(const struct single_scatter *ss, const struct ref_light *light, const double x[3],
                      const double out_dir[3], double out[3])
 {
-    double to_light[3], t_light = INFINITY;
+    double to_light[3], t_light = ref_light_toward(light, x, to_light);
     out[0] = out[1] = out[2] = 0.0;
-    if (light->point) {
-        for (int a = 0; a < 3; a++)
-            to_light[a] = light->vec[a] - x[a];
-        t_light = v3_normalize(to_light);
-    } else {
-        for (int a = 0; a < 3; a++)
-            to_light[a] = -light->vec[a];
-    }
     struct bvh_hit hit;
     if (!bvh_closest(ss->bvh, x, to_light, t_light, &hit))
         return;   /* open mesh or light inside: no surface between the point and the light */

@@ -5,12 +5,7 @@
 
 #include "bvh.h"
 #include "mesh.h"
-
-struct ref_light {
-    int point;           /* 1: vec is a position, 0: the direction the light travels */
-    double vec[3];
-    double rgb[3];       /* color * intensity */
-};
+#include "ref_lights.h"
 
 struct single_scatter {
     const struct lucent_mesh *mesh;

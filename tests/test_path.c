@@ -1,0 +1,230 @@
+/* test_path.c - method "path" (random walks in the medium) against radiative transfer's exact half-space
+ * answers (Chandrasekhar's H-function for isotropic scattering, index-matched boundary), for both boundary
+ * conventions; its own noise estimate against the error it makes; determinism; cancel and time budget. */
+#include "frame_plan.h"
+#include "path.h"
+#include "test_support.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+#define H_POINTS 2000
+
+struct fixture {
+    lucent_scene scene;
+    lucent_mesh *mesh;
+    struct view_frame camera;
+    double scale_mm;
+};
+
+static void die(const char *what, const lucent_error *err)
+{
+    fprintf(stderr, "FAIL %s: [%s] %s: %s\n", what, lucent_status_name(err->status), err->field, err->message);
+    printf("%d passed, %d failed\n", test_passed, test_failed + 1);
+    exit(1);
+}
+
+static void fixture_open(struct fixture *f, const char *json)
+{
+    lucent_error err = {0};
+    if (lucent_scene_parse(json, strlen(json), 1, &f->scene, &err) != LUCENT_OK)
+        die("scene", &err);
+    const lucent_mesh_ref *m = &f->scene.mesh;
+    lucent_status st = m->source == LUCENT_MESH_FILE ? lucent_mesh_import_file(m->file, &f->mesh, &err)
+                                                     : lucent_mesh_builtin(m->builtin, m->triangles, &f->mesh, &err);
+    if (st != LUCENT_OK || frame_camera(&f->scene, f->mesh, &f->camera, &err) != LUCENT_OK)
+        die("fixture", &err);
+    f->scale_mm = frame_scale_mm(&f->scene, f->mesh);
+}
+
+static lucent_status fixture_render(const struct fixture *f, const struct path_options *o, lucent_image *img,
+                                    struct path_report *report, lucent_error *err)
+{
+    return path_render(&f->scene, f->mesh, &f->camera, f->scale_mm, o, 1, img, report, err);
+}
+
+/* Chandrasekhar's H(mu) for isotropic scattering of albedo w on a midpoint grid, by iterating
+ * 1 / H(mu) = sqrt(1 - w) + w / 2 int_0^1 mu' H(mu') / (mu + mu') dmu'. */
+static void h_function(double w, double h[H_POINTS])
+{
+    for (int i = 0; i < H_POINTS; i++)
+        h[i] = 1.0;
+    for (int it = 0; it < 500; it++) {
+        double change = 0.0;
+        for (int i = 0; i < H_POINTS; i++) {
+            double mu = (i + 0.5) / H_POINTS, sum = 0.0;
+            for (int j = 0; j < H_POINTS; j++) {
+                double mj = (j + 0.5) / H_POINTS;
+                sum += mj * h[j] / (mu + mj);
+            }
+            double next = 1.0 / (sqrt(1.0 - w) + 0.5 * w * sum / H_POINTS);
+            change = fmax(change, fabs(next - h[i]));
+            h[i] = next;
+        }
+        if (change < 1e-12)
+            break;
+    }
+}
+
+/* The half-space's albedo for light entering straight down (plane albedo at mu0 = 1: 1 - H(1) sqrt(1 - w))
+ * and for light entering diffusely (spherical albedo: 1 - 2 sqrt(1 - w) int H mu dmu). */
+static void half_space_albedo(double w, double *normal, double *diffuse)
+{
+    static double h[H_POINTS];
+    h_function(w, h);
+    double moment = 0.0, h1 = 1.5 * h[H_POINTS - 1] - 0.5 * h[H_POINTS - 2];   /* H at mu = 1 */
+    for (int i = 0; i < H_POINTS; i++)
+        moment += h[i] * (i + 0.5) / H_POINTS;
+    *normal = 1.0 - h1 * sqrt(1.0 - w);
+    *diffuse = 1.0 - 2.0 * sqrt(1.0 - w) * moment / H_POINTS;
+}
+
+/* A 200 mm square of index-matched medium (eta 1, g 0) seen and lit straight down, one pixel: mean free path
+ * 1 mm, albedos 0.5, 0.9 and 0.99 in the three channels. The walk from the eye estimates, by reciprocity,
+ * the share of light entering (collimated for "fresnel", whose camera ray refracts straight in; diffusely
+ * for "cycles") that comes back out, times E / pi. */
+static void check_half_space(const char *square, const char *boundary, uint32_t samples)
+{
+    const double w[3] = {0.5, 0.9, 0.99};
+    char json[1024];
+    snprintf(json, sizeof json,
+             "{\"mesh\":{\"file\":\"%s\"},\"scale_mm\":100,\"width\":1,\"height\":1,\"method\":\"path\","
+             "\"material\":{\"sigma_a\":[%.17g,%.17g,%.17g],\"sigma_s_prime\":[%.17g,%.17g,%.17g],\"eta\":1},"
+             "\"camera\":{\"direction\":[0,0,-1]},\"lights\":[{\"direction\":[0,0,-1]}],"
+             "\"path\":{\"boundary\":\"%s\"}}",
+             square, 1.0 - w[0], 1.0 - w[1], 1.0 - w[2], w[0], w[1], w[2], boundary);
+    struct fixture f;
+    fixture_open(&f, json);
+    struct path_options o = {.samples = samples, .boundary = f.scene.path_boundary, .seed = 1};
+    lucent_image img;
+    struct path_report report;
+    lucent_error err = {0};
+    if (fixture_render(&f, &o, &img, &report, &err) != LUCENT_OK)
+        die("path_render", &err);
+    int ok = img.rgba[3] == 1.0f;
+    double worst = 0.0;
+    for (int c = 0; c < 3; c++) {
+        double normal, diffuse;
+        half_space_albedo(w[c], &normal, &diffuse);
+        double expect = (strcmp(boundary, "cycles") == 0 ? diffuse : normal) / PI, got = img.rgba[c];
+        /* a channel's standard error: the image's relative one is over all three, so bound it by the channel */
+        double sigma = report.rel_std_error * sqrt(img.rgba[0] * img.rgba[0] + img.rgba[1] * img.rgba[1] +
+                                                   img.rgba[2] * img.rgba[2]);
+        double z = fabs(got - expect) / sigma;
+        worst = fmax(worst, z);
+        ok = ok && fabs(got - expect) <= 4.0 * sigma + 2e-3 * expect;
+        printf("     %s, albedo %.2f: %.5f against %.5f (H-function), %.2f standard errors\n", boundary, w[c], got,
+               expect, z);
+    }
+    test_check(ok, "%s boundary, half-space albedos 0.5/0.9/0.99 from %u walks a channel: within 4 standard "
+               "errors + 0.2%% (worst %.2f; image's own relative standard error %.4f), %.1f steps a walk, %.0f ms",
+               boundary, samples, worst, report.rel_std_error, report.mean_steps, report.ms);
+    lucent_image_free(&img);
+    lucent_mesh_free(f.mesh);
+}
+
+/* The same image twice, and on one thread against two: identical bytes (seeds per pixel, pass, channel). */
+static void check_determinism(void)
+{
+    struct fixture f;
+    fixture_open(&f, "{\"mesh\":{\"builtin\":\"protrusion\"},\"width\":24,\"height\":20,\"method\":\"path\","
+                     "\"material\":{\"preset\":\"skin1\"},\"lights\":[{\"direction\":[-1,0,-0.5]}]}");
+    lucent_image a, b, c;
+    struct path_report ra, rb, rc;
+    lucent_error err = {0};
+    struct path_options o = {.samples = 2, .threads = 1};
+    if (fixture_render(&f, &o, &a, &ra, &err) || fixture_render(&f, &o, &b, &rb, &err))
+        die("path_render", &err);
+    o.threads = 2;
+    if (fixture_render(&f, &o, &c, &rc, &err))
+        die("path_render", &err);
+    size_t bytes = (size_t)a.width * a.height * 4 * sizeof(float);
+    int finite = 1, lit = 0;
+    for (size_t i = 0; i < (size_t)a.width * a.height * 4; i++) {
+        finite = finite && isfinite(a.rgba[i]) && a.rgba[i] >= 0.0f;
+        lit += i % 4 == 0 && a.rgba[i] > 0.0f;
+    }
+    test_check(memcmp(a.rgba, b.rgba, bytes) == 0 && memcmp(a.rgba, c.rgba, bytes) == 0 && finite && lit > 30,
+               "skin protrusion: two renders and one on two threads byte-identical, every value finite and >= 0, "
+               "%d pixels lit, %.1f steps a walk", lit, ra.mean_steps);
+    o.seed = 99;
+    lucent_image d;
+    if (fixture_render(&f, &o, &d, &rc, &err))
+        die("path_render", &err);
+    test_check(memcmp(a.rgba, d.rgba, bytes) != 0, "another seed, other noise");
+    lucent_image_free(&a);
+    lucent_image_free(&b);
+    lucent_image_free(&c);
+    lucent_image_free(&d);
+    lucent_mesh_free(f.mesh);
+}
+
+/* A cancel stops it with LUCENT_E_CANCELLED; a time budget ends it after the pass that exceeds it. */
+static void check_cancel_and_budget(void)
+{
+    struct fixture f;
+    fixture_open(&f, "{\"mesh\":{\"builtin\":\"sphere\"},\"width\":32,\"height\":32,\"method\":\"path\"}");
+    atomic_int cancel = 1;
+    struct path_options o = {.samples = 1000, .cancel = &cancel};
+    lucent_image img;
+    struct path_report report;
+    lucent_error err = {0};
+    lucent_status st = fixture_render(&f, &o, &img, &report, &err);
+    test_check(st == LUCENT_E_CANCELLED && img.rgba == NULL, "cancelled: %s, no image", lucent_status_name(st));
+    o.cancel = NULL;
+    o.time_s = 1e-6;
+    st = fixture_render(&f, &o, &img, &report, &err);
+    test_check(st == LUCENT_OK && report.samples == 2, "time budget 1 us: one batch, %u passes of the 1000 asked (%s)",
+               report.samples, lucent_status_name(st));
+    if (st == LUCENT_OK)
+        lucent_image_free(&img);
+    o.time_s = NAN;
+    st = fixture_render(&f, &o, &img, &report, &err);
+    test_check(st == LUCENT_E_LIMIT && strcmp(err.field, "path.time_s") == 0, "time budget NaN refused: [%s] %s",
+               err.field, err.message);
+    lucent_mesh_free(f.mesh);
+}
+
+/* The walks against the dipole's ground truth on the side-lit marble sphere: the same object, brighter
+ * (the dipole's semi-infinite flat medium misses light that comes round), never wildly apart. */
+static void check_against_dipole(lucent_renderer *r)
+{
+    const char *base = "{\"mesh\":{\"builtin\":\"sphere\"},\"material\":{\"preset\":\"marble\"},\"width\":32,"
+                       "\"height\":32,\"format\":\"exr\",\"camera\":{\"direction\":[0,0,-1]},"
+                       "\"lights\":[{\"direction\":[-1,0,-0.3],\"intensity\":3}],";
+    char json[1024];
+    lucent_image ref, path;
+    lucent_stats st_ref, st_path;
+    snprintf(json, sizeof json, "%s\"method\":\"reference\"}", base);
+    test_render(r, json, &ref, &st_ref);
+    snprintf(json, sizeof json, "%s\"method\":\"path\",\"path\":{\"samples\":16}}", base);
+    test_render(r, json, &path, &st_path);
+    lucent_image_error e;
+    lucent_error err = {0};
+    if (lucent_image_compare(&path, &ref, &e, &err) != LUCENT_OK)
+        die("compare", &err);
+    test_check(e.mean_ratio > 0.9 && e.mean_ratio < 1.6 && e.coverage_mismatch == 0 &&
+                   strstr(st_path.modelled, "\"rel_std_error\"") && strstr(st_path.modelled, "\"boundary\":\"fresnel\""),
+               "marble sphere, side light: path / dipole reference mean ratio %.3f (0.9..1.6), rel L2 %.3f, "
+               "coverage equal; modelled %s", e.mean_ratio, e.object.rel_l2, st_path.modelled);
+    lucent_image_free(&ref);
+    lucent_image_free(&path);
+}
+
+int main(void)
+{
+    char square[1024];
+    snprintf(square, sizeof square, "%s", test_write_square_obj());
+    check_half_space(square, "fresnel", 40000);
+    check_half_space(square, "cycles", 40000);
+    check_determinism();
+    check_cancel_and_budget();
+    lucent_renderer *r = test_renderer();
+    check_against_dipole(r);
+    lucent_renderer_destroy(r);
+    remove(square);
+    return test_finish();
+}
