@@ -125,7 +125,7 @@ static void etags_cover_every_field(void)
 
 static lucent_status query(const char *const *kv, int count, lucent_scene *s, lucent_error *err)
 {
-    struct query_field f[32];
+    struct query_field f[64];   /* MAX_QUERY_FIELDS of routes.c */
     for (int i = 0; i < count; i++)
         f[i] = (struct query_field){kv[2 * i], kv[2 * i + 1]};
     int format_given = 0;
@@ -141,7 +141,8 @@ static void query_matches_document(void)
         "camera_up", "0,1,0.1", "fov", "35", "w", "200", "h", "100", "method", "single", "samples", "12",
         "sampling", "per_channel", "fallback", "front", "single_scattering", "true", "projection_size", "256",
         "side_projection_size", "64", "background", "0.1,0.2,0.3,0.4", "exposure", "-1.5", "format", "exr",
-        "reference_points", "2000", "reference_threshold", "0.25"};
+        "reference_points", "2000", "reference_threshold", "0.25", "path_samples", "32", "path_time_s", "5",
+        "path_boundary", "cycles", "path_seed", "9"};
     const char *doc = "{\"mesh\":{\"builtin\":\"torus\",\"triangles\":3000},\"scale_mm\":20,"
                       "\"material\":{\"sigma_a\":[0.01,0.02,0.03],\"sigma_s_prime\":[1,2,3],\"eta\":1.4,\"g\":0.2},"
                       "\"lights\":[{\"type\":\"point\",\"position\":[3,4,5],\"color\":[1,0.5,0.25],\"intensity\":7}],"
@@ -149,7 +150,8 @@ static void query_matches_document(void)
                       "\"width\":200,\"height\":100,\"method\":\"single\",\"samples\":12,\"sampling\":\"per_channel\","
                       "\"fallback\":\"front\",\"single_scattering\":true,\"projection_size\":256,"
                       "\"side_projection_size\":64,\"background\":[0.1,0.2,0.3,0.4],\"exposure\":-1.5,\"format\":\"exr\","
-                      "\"reference\":{\"points\":2000,\"threshold\":0.25}}";
+                      "\"reference\":{\"points\":2000,\"threshold\":0.25},"
+                      "\"path\":{\"samples\":32,\"time_s\":5,\"boundary\":\"cycles\",\"seed\":9}}";
     lucent_scene q, d = parse(doc);
     lucent_error err = {0};
     lucent_status st = query(kv, (int)(sizeof kv / sizeof kv[0] / 2), &q, &err);
@@ -190,6 +192,7 @@ static void query_matches_document(void)
         {"background", "0,,0,1", "background"}, {"background", "0,0,0,", "background"},
         {"light_type", "spot", "light_type"},   {"reference_points", "500", "reference_points"},
         {"reference_threshold", "2", "reference_threshold"},
+        {"path_samples", "0", "path_samples"},  {"path_boundary", "rough", "path_boundary"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         const char *kv1[] = {bad[i].key, bad[i].value};

@@ -13,34 +13,7 @@
 #define PI 3.14159265358979323846
 #define H_POINTS 2000
 
-struct fixture {
-    lucent_scene scene;
-    lucent_mesh *mesh;
-    struct view_frame camera;
-    double scale_mm;
-};
-
-static void die(const char *what, const lucent_error *err)
-{
-    fprintf(stderr, "FAIL %s: [%s] %s: %s\n", what, lucent_status_name(err->status), err->field, err->message);
-    printf("%d passed, %d failed\n", test_passed, test_failed + 1);
-    exit(1);
-}
-
-static void fixture_open(struct fixture *f, const char *json)
-{
-    lucent_error err = {0};
-    if (lucent_scene_parse(json, strlen(json), 1, &f->scene, &err) != LUCENT_OK)
-        die("scene", &err);
-    const lucent_mesh_ref *m = &f->scene.mesh;
-    lucent_status st = m->source == LUCENT_MESH_FILE ? lucent_mesh_import_file(m->file, &f->mesh, &err)
-                                                     : lucent_mesh_builtin(m->builtin, m->triangles, &f->mesh, &err);
-    if (st != LUCENT_OK || frame_camera(&f->scene, f->mesh, &f->camera, &err) != LUCENT_OK)
-        die("fixture", &err);
-    f->scale_mm = frame_scale_mm(&f->scene, f->mesh);
-}
-
-static lucent_status fixture_render(const struct fixture *f, const struct path_options *o, lucent_image *img,
+static lucent_status fixture_render(const struct test_fixture *f, const struct path_options *o, lucent_image *img,
                                     struct path_report *report, lucent_error *err)
 {
     return path_render(&f->scene, f->mesh, &f->camera, f->scale_mm, o, 1, img, report, err);
@@ -96,14 +69,14 @@ static void check_half_space(const char *square, const char *boundary, uint32_t 
              "\"camera\":{\"direction\":[0,0,-1]},\"lights\":[{\"direction\":[0,0,-1]}],"
              "\"path\":{\"boundary\":\"%s\"}}",
              square, 1.0 - w[0], 1.0 - w[1], 1.0 - w[2], w[0], w[1], w[2], boundary);
-    struct fixture f;
-    fixture_open(&f, json);
+    struct test_fixture f;
+    test_fixture_open(&f, json);
     struct path_options o = {.samples = samples, .boundary = f.scene.path_boundary, .seed = 1};
     lucent_image img;
     struct path_report report;
     lucent_error err = {0};
     if (fixture_render(&f, &o, &img, &report, &err) != LUCENT_OK)
-        die("path_render", &err);
+        test_die("path_render", &err);
     int ok = img.rgba[3] == 1.0f;
     double worst = 0.0;
     for (int c = 0; c < 3; c++) {
@@ -129,18 +102,18 @@ static void check_half_space(const char *square, const char *boundary, uint32_t 
 /* The same image twice, and on one thread against two: identical bytes (seeds per pixel, pass, channel). */
 static void check_determinism(void)
 {
-    struct fixture f;
-    fixture_open(&f, "{\"mesh\":{\"builtin\":\"protrusion\"},\"width\":24,\"height\":20,\"method\":\"path\","
+    struct test_fixture f;
+    test_fixture_open(&f, "{\"mesh\":{\"builtin\":\"protrusion\"},\"width\":24,\"height\":20,\"method\":\"path\","
                      "\"material\":{\"preset\":\"skin1\"},\"lights\":[{\"direction\":[-1,0,-0.5]}]}");
     lucent_image a, b, c;
     struct path_report ra, rb, rc;
     lucent_error err = {0};
     struct path_options o = {.samples = 2, .threads = 1};
     if (fixture_render(&f, &o, &a, &ra, &err) || fixture_render(&f, &o, &b, &rb, &err))
-        die("path_render", &err);
+        test_die("path_render", &err);
     o.threads = 2;
     if (fixture_render(&f, &o, &c, &rc, &err))
-        die("path_render", &err);
+        test_die("path_render", &err);
     size_t bytes = (size_t)a.width * a.height * 4 * sizeof(float);
     int finite = 1, lit = 0;
     for (size_t i = 0; i < (size_t)a.width * a.height * 4; i++) {
@@ -153,7 +126,7 @@ static void check_determinism(void)
     o.seed = 99;
     lucent_image d;
     if (fixture_render(&f, &o, &d, &rc, &err))
-        die("path_render", &err);
+        test_die("path_render", &err);
     test_check(memcmp(a.rgba, d.rgba, bytes) != 0, "another seed, other noise");
     lucent_image_free(&a);
     lucent_image_free(&b);
@@ -165,8 +138,8 @@ static void check_determinism(void)
 /* A cancel stops it with LUCENT_E_CANCELLED; a time budget ends it after the pass that exceeds it. */
 static void check_cancel_and_budget(void)
 {
-    struct fixture f;
-    fixture_open(&f, "{\"mesh\":{\"builtin\":\"sphere\"},\"width\":32,\"height\":32,\"method\":\"path\"}");
+    struct test_fixture f;
+    test_fixture_open(&f, "{\"mesh\":{\"builtin\":\"sphere\"},\"width\":32,\"height\":32,\"method\":\"path\"}");
     atomic_int cancel = 1;
     struct path_options o = {.samples = 1000, .cancel = &cancel};
     lucent_image img;
@@ -205,7 +178,7 @@ static void check_against_dipole(lucent_renderer *r)
     lucent_image_error e;
     lucent_error err = {0};
     if (lucent_image_compare(&path, &ref, &e, &err) != LUCENT_OK)
-        die("compare", &err);
+        test_die("compare", &err);
     test_check(e.mean_ratio > 0.9 && e.mean_ratio < 1.6 && e.coverage_mismatch == 0 &&
                    strstr(st_path.modelled, "\"rel_std_error\"") && strstr(st_path.modelled, "\"boundary\":\"fresnel\""),
                "marble sphere, side light: path / dipole reference mean ratio %.3f (0.9..1.6), rel L2 %.3f, "

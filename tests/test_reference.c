@@ -15,42 +15,12 @@
 
 #define PI 3.14159265358979323846
 
-struct fixture {
-    lucent_scene scene;
-    lucent_mesh *mesh;
-    struct view_frame camera;
-    double scale_mm;
-};
-
-static void die(const char *what, const lucent_error *err)
-{
-    fprintf(stderr, "FAIL %s: [%s] %s: %s\n", what, lucent_status_name(err->status), err->field, err->message);
-    printf("%d passed, %d failed\n", test_passed, test_failed + 1);
-    exit(1);
-}
-
-/* Parses json and loads its mesh; aborts the run on any error. */
-static void fixture_open(struct fixture *f, const char *json)
-{
-    lucent_error err = {0};
-    if (lucent_scene_parse(json, strlen(json), 1, &f->scene, &err) != LUCENT_OK)
-        die("scene", &err);
-    const lucent_mesh_ref *m = &f->scene.mesh;
-    lucent_status st = m->source == LUCENT_MESH_FILE ? lucent_mesh_import_file(m->file, &f->mesh, &err)
-                                                     : lucent_mesh_builtin(m->builtin, m->triangles, &f->mesh, &err);
-    if (st != LUCENT_OK)
-        die("mesh", &err);
-    if (frame_camera(&f->scene, f->mesh, &f->camera, &err) != LUCENT_OK)
-        die("camera", &err);
-    f->scale_mm = frame_scale_mm(&f->scene, f->mesh);
-}
-
-static void fixture_render(const struct fixture *f, const struct reference_options *o, lucent_image *img,
+static void fixture_render(const struct test_fixture *f, const struct reference_options *o, lucent_image *img,
                            struct reference_report *report)
 {
     lucent_error err = {0};
     if (reference_render(&f->scene, f->mesh, &f->camera, f->scale_mm, o, 1, img, report, &err) != LUCENT_OK)
-        die("reference_render", &err);
+        test_die("reference_render", &err);
 }
 
 /* (a) A 200 mm square lit head-on is a half-space for every kernel here (marble red, the widest,
@@ -65,8 +35,8 @@ static void check_square(const char *square, const char *preset, uint32_t points
              "\"lights\":[{\"type\":\"directional\",\"direction\":[0,0,-1]}],"
              "\"camera\":{\"direction\":[0,0,-1]},\"width\":33,\"height\":33}",
              square, preset);
-    struct fixture f;
-    fixture_open(&f, json);
+    struct test_fixture f;
+    test_fixture_open(&f, json);
     lucent_image img;
     struct reference_report rep;
     fixture_render(&f, &(struct reference_options){.points = points}, &img, &rep);
@@ -112,8 +82,8 @@ static void check_hierarchy(const char *mesh, const char *preset, int side, uint
              "{\"mesh\":{\"builtin\":\"%s\"},\"material\":{\"preset\":\"%s\"},"
              "\"lights\":[{\"direction\":[-1,0,0]}],\"camera\":{\"direction\":[0,0,-1]},\"width\":%d,\"height\":%d}",
              mesh, preset, side, side);
-    struct fixture f;
-    fixture_open(&f, json);
+    struct test_fixture f;
+    test_fixture_open(&f, json);
     lucent_image brute, tree;
     struct reference_report rb, rt;
     fixture_render(&f, &(struct reference_options){.points = points, .brute_force = 1}, &brute, &rb);
@@ -139,8 +109,8 @@ static int same_image(const lucent_image *a, const lucent_image *b)
 /* (c) The same frame with one and two threads, twice, must not differ in a single bit. */
 static void check_determinism(void)
 {
-    struct fixture f;
-    fixture_open(&f, "{\"mesh\":{\"builtin\":\"protrusion\"},\"material\":{\"preset\":\"skin1\"},"
+    struct test_fixture f;
+    test_fixture_open(&f, "{\"mesh\":{\"builtin\":\"protrusion\"},\"material\":{\"preset\":\"skin1\"},"
                      "\"lights\":[{\"direction\":[-1,-0.3,-0.5]}],"
                      "\"camera\":{\"direction\":[0,0,-1]},\"width\":32,\"height\":32}");
     lucent_image a, b, c;
@@ -166,8 +136,8 @@ static void check_extreme(const char *material)
              "{\"mesh\":{\"builtin\":\"sphere\"},\"material\":%s,\"lights\":[{\"direction\":[0,0,-1]}],"
              "\"camera\":{\"direction\":[0,0,-1]},\"width\":24,\"height\":24}",
              material);
-    struct fixture f;
-    fixture_open(&f, json);
+    struct test_fixture f;
+    test_fixture_open(&f, json);
     lucent_image img;
     struct reference_report rep;
     fixture_render(&f, &(struct reference_options){0}, &img, &rep);
@@ -191,8 +161,8 @@ static void check_extreme(const char *material)
 /* Bad requests fail with a status and a message, and leave nothing allocated. */
 static void check_rejects(void)
 {
-    struct fixture f;
-    fixture_open(&f, "{\"mesh\":{\"builtin\":\"sphere\"},\"camera\":{\"direction\":[0,0,-1]},\"width\":8,\"height\":8}");
+    struct test_fixture f;
+    test_fixture_open(&f, "{\"mesh\":{\"builtin\":\"sphere\"},\"camera\":{\"direction\":[0,0,-1]},\"width\":8,\"height\":8}");
     lucent_image img;
     struct reference_report rep;
     lucent_error err = {0};

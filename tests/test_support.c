@@ -1,6 +1,7 @@
 /* test_support.c - shared test plumbing; see test_support.h. Failures to set up (no device, bad
  * scene) end the run at once with a message, since every later check would be meaningless. */
 #include "test_support.h"
+#include "frame_plan.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -29,7 +30,7 @@ int test_finish(void)
     return test_failed != 0;
 }
 
-static void die(const char *what, const lucent_error *err)
+void test_die(const char *what, const lucent_error *err)
 {
     fprintf(stderr, "FAIL %s: [%s] %s: %s\n", what, lucent_status_name(err->status), err->field, err->message);
     printf("%d passed, %d failed\n", test_passed, test_failed + 1);
@@ -42,13 +43,13 @@ lucent_renderer *test_renderer(void)
     lucent_renderer_desc desc = {.verbose = 1};
     lucent_renderer *r = lucent_renderer_create(&desc, &err);
     if (!r)
-        die("renderer", &err);
+        test_die("renderer", &err);
     /* The OpenGL runs of the image tests (tests/CMakeLists.txt) get there by Vulkan's absence: make sure. */
     const char *expect = getenv("LUCENT_EXPECT_BACKEND");
     printf("renderer: backend %s, device \"%s\"\n", lucent_renderer_backend(r), lucent_renderer_device(r));
     if (expect && strcmp(expect, lucent_renderer_backend(r)) != 0) {
         lucent_fail(&err, LUCENT_E_INTERNAL, "", "expected backend %s, got %s", expect, lucent_renderer_backend(r));
-        die("renderer", &err);
+        test_die("renderer", &err);
     }
     return r;
 }
@@ -58,9 +59,9 @@ void test_render(lucent_renderer *r, const char *json, lucent_image *out, lucent
     lucent_scene scene;
     lucent_error err = {0};
     if (lucent_scene_parse(json, strlen(json), 1, &scene, &err) != LUCENT_OK)
-        die("scene", &err);
+        test_die("scene", &err);
     if (lucent_render(r, &scene, out, stats, &err) != LUCENT_OK)
-        die("render", &err);
+        test_die("render", &err);
 }
 
 void test_write_obj(char *path, size_t cap, const char *name, const char *text)
@@ -79,4 +80,19 @@ const char *test_write_square_obj(void)
     test_write_obj(path, sizeof path, "square",
                    "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\nf 1//1 3//1 4//1\n");
     return path;
+}
+
+void test_fixture_open(struct test_fixture *f, const char *json)
+{
+    lucent_error err = {0};
+    if (lucent_scene_parse(json, strlen(json), 1, &f->scene, &err) != LUCENT_OK)
+        test_die("scene", &err);
+    const lucent_mesh_ref *m = &f->scene.mesh;
+    lucent_status st = m->source == LUCENT_MESH_FILE ? lucent_mesh_import_file(m->file, &f->mesh, &err)
+                                                     : lucent_mesh_builtin(m->builtin, m->triangles, &f->mesh, &err);
+    if (st != LUCENT_OK)
+        test_die("mesh", &err);
+    if (frame_camera(&f->scene, f->mesh, &f->camera, &err) != LUCENT_OK)
+        test_die("camera", &err);
+    f->scale_mm = frame_scale_mm(&f->scene, f->mesh);
 }

@@ -4,6 +4,7 @@
 #define LUCENT_TEST_SUPPORT_H
 
 #include "lucent.h"
+#include "view_frame.h"
 
 #include <stddef.h>
 
@@ -17,6 +18,19 @@ int test_check(int ok, const char *fmt, ...)
     ;
 /* Releases the shared device, prints the closing line and returns the process exit code. */
 int test_finish(void);
+
+/* Prints the failure, the closing line with it counted, and ends the run (set-up that cannot go on). */
+void test_die(const char *what, const lucent_error *err);
+
+/* A scene with its mesh loaded and its camera and scale resolved, for the CPU integrators' own tests. */
+struct test_fixture {
+    lucent_scene scene;
+    lucent_mesh *mesh;
+    struct view_frame camera;
+    double scale_mm;
+};
+/* Parses json (files allowed) and loads its mesh; aborts the run on any error. */
+void test_fixture_open(struct test_fixture *f, const char *json);
 
 /* Parses json (files allowed) and renders it; aborts the test run on any error. */
 void test_render(lucent_renderer *r, const char *json, lucent_image *out, lucent_stats *stats);
