@@ -6,9 +6,11 @@
 #include "test_support.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #define PI 3.14159265358979323846
 #define H_POINTS 2000
@@ -161,6 +163,49 @@ static void check_cancel_and_budget(void)
     lucent_mesh_free(f.mesh);
 }
 
+static double seconds_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static void *cancel_soon(void *arg)
+{
+    nanosleep(&(struct timespec){0, 300000000L}, NULL);
+    atomic_store((atomic_int *)arg, 1);
+    return NULL;
+}
+
+/* A white medium 100 m across with a 1 mm mean free path, 65536 walks a pixel and channel: hours of walks,
+ * whose longest ones run to millions of steps. A cancel 0.3 s in returns within a few seconds. (Walks also
+ * look at the flag every 65536 steps, for a walk that alone would outlast a deadline; which walk that is
+ * is up to chance, so no test can pin it.) */
+static void check_cancel_mid_walk(void)
+{
+    struct test_fixture f;
+    test_fixture_open(&f, "{\"mesh\":{\"builtin\":\"sphere\"},\"scale_mm\":100000,\"width\":32,\"height\":32,"
+                          "\"method\":\"path\",\"material\":{\"sigma_a\":[0,0,0],\"sigma_s_prime\":[1,1,1]}}");
+    atomic_int cancel = 0;
+    struct path_options o = {.samples = LUCENT_MAX_PATH_SAMPLES, .cancel = &cancel};
+    lucent_image img;
+    struct path_report report;
+    lucent_error err = {0};
+    pthread_t tid;
+    double t0 = seconds_now();
+    int started = pthread_create(&tid, NULL, cancel_soon, &cancel) == 0;
+    lucent_status st = path_render(&f.scene, f.mesh, &f.camera, f.scale_mm, &o, 0, &img, &report, &err);
+    double took = seconds_now() - t0;
+    if (started)
+        pthread_join(tid, NULL);
+    test_check(started && st == LUCENT_E_CANCELLED && took < 5.0,
+               "hours of walks (white medium 10^5 mean free paths across) cancelled 0.3 s in: %s after %.2f s (< 5)",
+               lucent_status_name(st), took);
+    if (st == LUCENT_OK)
+        lucent_image_free(&img);
+    lucent_mesh_free(f.mesh);
+}
+
 /* The walks against the dipole's ground truth on the side-lit marble sphere: the same object, brighter
  * (the dipole's semi-infinite flat medium misses light that comes round), never wildly apart. */
 static void check_against_dipole(lucent_renderer *r)
@@ -195,6 +240,7 @@ int main(void)
     check_half_space(square, "cycles", 40000);
     check_determinism();
     check_cancel_and_budget();
+    check_cancel_mid_walk();
     lucent_renderer *r = test_renderer();
     check_against_dipole(r);
     lucent_renderer_destroy(r);

@@ -29,6 +29,9 @@
 
 #define ROULETTE_WEIGHT 0.1
 #define ESCAPE_RADII 4.0
+/* A walk in a medium that barely absorbs, far larger than its mean free path, may take billions of steps:
+ * it looks at the cancel flag this often, so a render's deadline still stops it. */
+#define CANCEL_CHECK_STEPS 65536
 /* Rays leave a surface this far (times the mesh radius) along its normal so they miss their own triangle. */
 #define SURFACE_OFFSET 1e-7
 
@@ -50,6 +53,7 @@ struct context {
     uint64_t seed;
     uint32_t pass, batch;                   /* the passes [pass, pass + batch) run now, row by row */
     double *sum, *sum_sq;                   /* per pixel and channel, over passes */
+    const atomic_int *cancel;
     lucent_image *out;
     struct counters counters;
 };
@@ -179,8 +183,10 @@ static double walk(struct context *ctx, int c, const double p0[3], const double 
         return 0.0;
     double escape = ESCAPE_RADII * ctx->mesh->radius, mfp = 1.0 / (ctx->sigma_t[c] * ctx->scale_mm);
     v3_scale_add(p0, g0, -ctx->offset, p);
-    for (;;) {
+    for (unsigned long long taken = 1;; taken++) {
         ++*steps;
+        if (taken % CANCEL_CHECK_STEPS == 0 && ctx->cancel && atomic_load(ctx->cancel))
+            return 0.0;   /* the render is being cancelled: this value is never shown */
         double t = -log(1.0 - uniform(rng)) * mfp;
         struct bvh_hit hit;
         if (bvh_closest(ctx->bvh, p, d, t, &hit)) {
@@ -308,7 +314,7 @@ lucent_status path_render(const lucent_scene *scene, const struct lucent_mesh *m
 {
     struct context ctx = {.scene = scene, .mesh = mesh, .camera = camera, .scale_mm = scale_mm,
                           .eta = scene->material.eta, .boundary = options->boundary, .seed = options->seed,
-                          .out = out};
+                          .cancel = options->cancel, .out = out};
     *report = (struct path_report){0};
     *out = (lucent_image){0};
     if (!mesh || mesh->triangle_count == 0)
