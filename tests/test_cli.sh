@@ -167,6 +167,11 @@ check "--backend gl --device picks the EGL device by its renderer's name" \
 check "--backend gl --device naming no device: exit 1 listing the devices found" \
     expect_exit 1 'no OpenGL device named like "no-such-gpu" (found: "llvmpipe' "$five" -o "$dir/x.png" --backend gl \
     --device no-such-gpu
+check "LUCENT_EGL_PLATFORM=surfaceless: OpenGL on Mesa's surfaceless platform, named with --verbose" \
+    eval 'LUCENT_EGL_PLATFORM=surfaceless render "$five" -o "$dir/x.png" --backend gl --stats --verbose &&
+          backend_is gl && grep -q "through EGL, platform surfaceless" "$dir/err"'
+check "LUCENT_EGL_PLATFORM other than device or surfaceless: exit 1 naming it" \
+    eval 'LUCENT_EGL_PLATFORM=x11 expect_exit 1 "LUCENT_EGL_PLATFORM must be device or surfaceless" "$five" -o "$dir/x.png" --backend gl'
 check "--backend other than vulkan, gl, auto: exit 2" expect_exit 2 "vulkan, gl or auto" "$five" -o "$dir/x.png" \
     --backend metal
 check "no arguments: usage, exit 2" expect_exit 2 "usage"

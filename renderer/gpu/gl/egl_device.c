@@ -81,9 +81,13 @@ static int is_registered(EGLDisplay display, const struct egl_device *besides)
     return 0;
 }
 
-/* The displays to try: one per EGL device, software last, then the surfaceless platform. */
-static int candidate_displays(EGLDisplay out[MAX_CANDIDATES])
+/* The displays to try: one per EGL device, software last, then the surfaceless platform (or only the
+ * platform $LUCENT_EGL_PLATFORM names). */
+static int candidate_displays(EGLDisplay out[MAX_CANDIDATES], const char *platform[MAX_CANDIDATES])
 {
+    const char *only = getenv("LUCENT_EGL_PLATFORM");
+    int devices_ok = !only || !only[0] || strcmp(only, "device") == 0;
+    int surfaceless_ok = !only || !only[0] || strcmp(only, "surfaceless") == 0;
     const char *client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     PFNEGLQUERYDEVICESEXTPROC query_devices = (PFNEGLQUERYDEVICESEXTPROC)eglGetProcAddress("eglQueryDevicesEXT");
     PFNEGLQUERYDEVICESTRINGEXTPROC device_string =
@@ -91,7 +95,7 @@ static int candidate_displays(EGLDisplay out[MAX_CANDIDATES])
     int n = 0;
     EGLint count = 0;
     EGLDeviceEXT devices[MAX_CANDIDATES];
-    if (has_extension(client, "EGL_EXT_platform_device") && query_devices && device_string &&
+    if (devices_ok && has_extension(client, "EGL_EXT_platform_device") && query_devices && device_string &&
         query_devices(MAX_CANDIDATES - 1, devices, &count)) {
         for (int pass = 0; pass < 2; pass++)   /* GPUs first, then Mesa's software device */
             for (EGLint i = 0; i < count; i++) {
@@ -100,13 +104,13 @@ static int candidate_displays(EGLDisplay out[MAX_CANDIDATES])
                     continue;
                 EGLDisplay d = eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], NULL);
                 if (d != EGL_NO_DISPLAY)
-                    out[n++] = d;
+                    platform[n] = "device", out[n++] = d;
             }
     }
-    if (has_extension(client, "EGL_MESA_platform_surfaceless")) {
+    if (surfaceless_ok && has_extension(client, "EGL_MESA_platform_surfaceless")) {
         EGLDisplay d = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
         if (d != EGL_NO_DISPLAY)
-            out[n++] = d;
+            platform[n] = "surfaceless", out[n++] = d;
     }
     return n;
 }
@@ -114,13 +118,14 @@ static int candidate_displays(EGLDisplay out[MAX_CANDIDATES])
 static lucent_status open_display(struct egl_device *slot, const char *request, lucent_error *err)
 {
     EGLDisplay candidates[MAX_CANDIDATES];
-    int n = candidate_displays(candidates);
+    const char *platform[MAX_CANDIDATES];
+    int n = candidate_displays(candidates, platform);
     lucent_error last = {.message = "no EGL device and no surfaceless platform; install libegl-mesa0 and "
                                     "libgl1-mesa-dri for the CPU renderer"};
     char seen[512] = "";
     size_t used = 0;
     for (int i = 0; i < n; i++) {
-        struct egl_device d = {.display = candidates[i]};
+        struct egl_device d = {.display = candidates[i], .platform = platform[i]};
         int in_use = is_registered(d.display, slot);
         if (probe_display(&d, &last) == LUCENT_OK) {
             if (!request[0] || strstr(d.name, request)) {
@@ -142,6 +147,10 @@ static lucent_status open_display(struct egl_device *slot, const char *request, 
 
 lucent_status egl_device_acquire(const char *request, int verbose, struct egl_device **out, lucent_error *err)
 {
+    const char *platform = getenv("LUCENT_EGL_PLATFORM");
+    if (platform && platform[0] && strcmp(platform, "device") != 0 && strcmp(platform, "surfaceless") != 0)
+        return lucent_fail(err, LUCENT_E_INVALID, "", "LUCENT_EGL_PLATFORM must be device or surfaceless (got \"%.40s\")",
+                           platform);
     if (!request)
         request = getenv("LUCENT_DEVICE");
     if (!request)
@@ -166,7 +175,8 @@ lucent_status egl_device_acquire(const char *request, int verbose, struct egl_de
         found->users++;
         *out = found;
         if (verbose)
-            fprintf(stderr, "lucent: OpenGL device \"%s\" (%s, through EGL)\n", found->name, found->version);
+            fprintf(stderr, "lucent: OpenGL device \"%s\" (%s, through EGL, platform %s)\n", found->name,
+                    found->version, found->platform);
     }
     pthread_mutex_unlock(&registry_lock);
     return st;

@@ -10,12 +10,13 @@ struct egl_device {
     char name[256];       /* GL_RENDERER of a context on it */
     char version[128];    /* GL_VERSION */
     char request[128];    /* the device name asked for ("" = automatic) */
+    const char *platform; /* "device" (EGL_EXT_platform_device) or "surfaceless" (EGL_MESA_platform_surfaceless) */
     int users;
 };
 
 /* Finds or opens the display for a request: among the EGL devices (EGL_EXT_platform_device), a GPU before
- * Mesa's software device, else Mesa's surfaceless platform; a non-empty request (NULL: $LUCENT_DEVICE)
- * takes the first whose GL_RENDERER contains it. The device must make an OpenGL 4.5 core context and
+ * Mesa's software device, else Mesa's surfaceless platform ($LUCENT_EGL_PLATFORM=device or surfaceless: that
+ * one only); a non-empty request (NULL: $LUCENT_DEVICE) takes the first whose GL_RENDERER contains it. The device must make an OpenGL 4.5 core context and
  * read SPIR-V shaders (ARB_gl_spirv). */
 lucent_status egl_device_acquire(const char *request, int verbose, struct egl_device **out, lucent_error *err);
 void egl_device_release(struct egl_device *dev);
