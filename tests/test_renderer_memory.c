@@ -58,7 +58,7 @@ static void check_mesh_budget(void)
     const uint64_t budget = 4u << 20;
     lucent_renderer_desc desc = {.mesh_cache_bytes = budget};
     lucent_renderer *r = lucent_renderer_create(&desc, NULL);
-    uint64_t peak = 0;
+    uint64_t peak = 0, first_device = 0, last_device = 0;
     int rendered = 0;
     for (int i = 0; i < 12; i++) {
         char json[200];
@@ -69,10 +69,16 @@ static void check_mesh_budget(void)
         test_render(r, json, &img, &stats);
         lucent_image_free(&img);
         peak = stats.mesh_cache_bytes > peak ? stats.mesh_cache_bytes : peak;
+        first_device = i == 0 ? stats.device_bytes : first_device;
+        last_device = stats.device_bytes;
         rendered++;
     }
     test_check(peak <= budget, "%d meshes of 20k-50k triangles through a %.1f MiB mesh cache: at most %.2f MiB held",
                rendered, budget / 1048576.0, peak / 1048576.0);
+    /* Evicted meshes give their device memory back: the last frame holds at most the first's plus the budget. */
+    test_check(last_device <= first_device + budget, "device memory %.2f MiB after the first mesh, %.2f MiB after the "
+               "12th (at most %.2f)", first_device / 1048576.0, last_device / 1048576.0,
+               (first_device + budget) / 1048576.0);
     const char *big = "{\"mesh\":{\"builtin\":\"sphere\",\"triangles\":400000},\"width\":32,\"height\":32}";
     lucent_scene scene;
     lucent_scene_parse(big, strlen(big), 0, &scene, NULL);

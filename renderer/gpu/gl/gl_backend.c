@@ -81,6 +81,7 @@ static void delete_geometry(struct gpu_geometry *geo)
 static void gl_geometry_free(struct gpu *base, struct gpu_geometry *geo)
 {
     struct gl_gpu *g = (struct gl_gpu *)base;
+    g->geometry_bytes -= geo->bytes;
     if (make_current(g, NULL) != LUCENT_OK) {
         free(geo);   /* the context is gone, and its objects with it */
         return;
@@ -120,7 +121,8 @@ static lucent_status gl_geometry_upload(struct gpu *base, const float *positions
         release_current(g);
         return st;
     }
-    g->geometry_bytes += (uint64_t)vbytes * 2 + (uint64_t)index_count * 4;
+    geo->bytes = (uint64_t)vbytes * 2 + (uint64_t)index_count * 4;
+    g->geometry_bytes += geo->bytes;
     release_current(g);
     *out = geo;
     return LUCENT_OK;

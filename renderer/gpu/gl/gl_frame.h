@@ -13,6 +13,7 @@
 /* A mesh on this backend (gpu.h): its buffers and the vertex array drawing them. */
 struct gpu_geometry {
     GLuint positions, normals, indices, vertex_array;
+    uint64_t bytes;
 };
 
 /* What drawing touches; all of it owned by the backend's renderer, its context current. */
