@@ -22,6 +22,7 @@
 #include "linalg.h"
 #include "parallel.h"
 #include "ref_lights.h"
+#include "visible_point.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -226,33 +227,19 @@ static void shade_pixel(struct context *ctx, int x, int y, uint32_t pass, unsign
                         unsigned long long *steps, unsigned long long *escaped)
 {
     lucent_image *img = ctx->out;
-    double dir[3], p[3], n[3], g[3];
-    struct bvh_hit hit;
-    view_frame_pixel_ray(ctx->camera, x, y, img->width, img->height, dir);
-    if (!bvh_closest(ctx->bvh, ctx->camera->eye, dir, INFINITY, &hit))
+    struct visible_point vp;   /* a back face in view: the medium is on the camera's far side of it */
+    if (!visible_point_at(ctx->camera, ctx->bvh, ctx->mesh, x, y, img->width, img->height, &vp))
         return;
-    mesh_surface_at(ctx->mesh, hit.triangle, hit.u, hit.v, p, n, g);
-    if (v3_dot(g, dir) > 0.0)   /* a back face in view: the medium is on the camera's far side of it */
-        for (int a = 0; a < 3; a++)
-            n[a] = -n[a], g[a] = -g[a];
     size_t i = (size_t)y * img->width + x;
     for (int c = 0; c < 3; c++) {
         uint64_t rng = walk_seed(ctx, i, pass, c);
-        double v = walk(ctx, c, p, n, g, dir, &rng, steps, escaped);
+        double v = walk(ctx, c, vp.p, vp.n, vp.g, vp.dir, &rng, steps, escaped);
         ctx->sum[i * 3 + c] += v;
         ctx->sum_sq[i * 3 + c] += v * v;
     }
     *walks += 3;
-    if (pass > 0)
-        return;
-    img->rgba[i * 4 + 3] = 1.0f;
-    if (!img->depth)
-        return;
-    img->depth[i] = (float)hit.t;
-    for (int a = 0; a < 3; a++)
-        img->normal[i * 3 + a] = (float)n[a];
-    img->view[i] = 0.0f;
-    img->facing[i] = (float)-v3_dot(n, dir);
+    if (pass == 0)
+        visible_point_write_aovs(img, i, &vp);
 }
 
 static void shade_rows(void *arg, size_t begin, size_t end)

@@ -6,6 +6,7 @@
 #include "bvh.h"
 #include "parallel.h"
 #include "reference_single.h"
+#include "visible_point.h"
 #include "dipole.h"
 #include "linalg.h"
 
@@ -376,44 +377,26 @@ static void sum_tree(const struct context *ctx, const double x[3], double sum[3]
 
 static void shade_pixel(struct context *ctx, int x, int y)
 {
-    const struct view_frame *cam = ctx->camera;
     lucent_image *img = ctx->out;
-    double dir[3], p[3], n[3], g[3], sum[3] = {0.0, 0.0, 0.0};
-    struct bvh_hit hit;
-    view_frame_pixel_ray(cam, x, y, img->width, img->height, dir);
-    if (!bvh_closest(ctx->bvh, cam->eye, dir, INFINITY, &hit))
+    double sum[3] = {0.0, 0.0, 0.0};
+    struct visible_point v;
+    if (!visible_point_at(ctx->camera, ctx->bvh, ctx->mesh, x, y, img->width, img->height, &v))
         return;
-    mesh_surface_at(ctx->mesh, hit.triangle, hit.u, hit.v, p, n, g);
-    /* A back face in view (open mesh, or the eye inside): shade the side facing the camera, as the
-     * raster passes do with gl_FrontFacing. */
-    if (v3_dot(g, dir) > 0.0)
-        for (int a = 0; a < 3; a++)
-            n[a] = -n[a];
-    double facing = -v3_dot(n, dir);
     struct near_disc near = {{0.0, 0.0, 0.0}, 0};
     if (ctx->brute_force)
-        sum_points(ctx, p, 0, ctx->point_count, sum, &near);
+        sum_points(ctx, v.p, 0, ctx->point_count, sum, &near);
     else
-        sum_tree(ctx, p, sum, &near);
+        sum_tree(ctx, v.p, sum, &near);
     add_near_disc(ctx, &near, sum);
-    double k = fresnel_transmittance(ctx->eta, facing) / PI, single[3] = {0.0, 0.0, 0.0};
+    double k = fresnel_transmittance(ctx->eta, -v3_dot(v.n, v.dir)) / PI, single[3] = {0.0, 0.0, 0.0};
     if (ctx->single) {
-        double to_eye[3] = {-dir[0], -dir[1], -dir[2]}, outward[3];
-        for (int a = 0; a < 3; a++)
-            outward[a] = v3_dot(g, dir) > 0.0 ? -g[a] : g[a];
-        single_scatter_radiance(&ctx->ss, p, n, outward, to_eye, single);
+        double to_eye[3] = {-v.dir[0], -v.dir[1], -v.dir[2]};
+        single_scatter_radiance(&ctx->ss, v.p, v.n, v.g, to_eye, single);
     }
     size_t i = (size_t)y * img->width + x;
     for (int c = 0; c < 3; c++)
         img->rgba[i * 4 + c] = (float)(sum[c] * k + single[c]);
-    img->rgba[i * 4 + 3] = 1.0f;
-    if (!img->depth)
-        return;
-    img->depth[i] = (float)hit.t;
-    for (int a = 0; a < 3; a++)
-        img->normal[i * 3 + a] = (float)n[a];
-    img->view[i] = 0.0f;
-    img->facing[i] = (float)facing;
+    visible_point_write_aovs(img, i, &v);
 }
 
 static void shade_rows(void *arg, size_t begin, size_t end)

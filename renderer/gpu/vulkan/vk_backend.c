@@ -83,7 +83,6 @@ static lucent_status vk_geometry_upload(struct gpu *base, const float *positions
         vk_geometry_free(base, geo);
         return st;
     }
-    g->base.memory_bytes = g->ctx.memory_bytes;
     *out = geo;
     return LUCENT_OK;
 }

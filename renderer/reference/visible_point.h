@@ -1,0 +1,26 @@
+/* visible_point.h - the surface point a pixel's camera ray hits, as the CPU methods (reference, path) shade
+ * it, and the coverage and AOVs they write for it. */
+#ifndef LUCENT_VISIBLE_POINT_H
+#define LUCENT_VISIBLE_POINT_H
+
+#include "bvh.h"
+#include "lucent.h"
+#include "mesh.h"
+#include "view_frame.h"
+
+struct visible_point {
+    double dir[3];   /* the camera ray, unit */
+    double p[3];     /* the point hit */
+    double n[3], g[3];   /* shading and geometric normals, both turned to face the camera */
+    double t;        /* distance from the eye */
+};
+
+/* 1 and *out when pixel (x, y) of a width x height image sees the mesh; 0 on the background. A back face
+ * in view (open mesh, or the eye inside) is shaded from the side facing the camera, as the raster passes
+ * do with gl_FrontFacing. */
+int visible_point_at(const struct view_frame *camera, const struct bvh *bvh, const struct lucent_mesh *mesh, int x,
+                     int y, int width, int height, struct visible_point *out);
+/* Marks pixel i covered and, where the image has AOVs, writes its depth, normal, view (0) and facing. */
+void visible_point_write_aovs(lucent_image *img, size_t i, const struct visible_point *v);
+
+#endif
