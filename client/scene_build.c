@@ -26,7 +26,7 @@ enum kind {
 };
 
 enum {
-    F_MESH, F_MESH_TRIANGLES, F_SCALE_MM, F_PRESET, F_SIGMA_A, F_SIGMA_S_PRIME, F_ETA, F_G,
+    F_MESH, F_MESH_TRIANGLES, F_SCALE_MM, F_PRESET, F_SIGMA_A, F_SIGMA_S_PRIME, F_ETA, F_G, F_PROFILE,
     F_LIGHT_DIR, F_LIGHT_POS, F_LIGHT_COLOR, F_LIGHT_INTENSITY,
     F_CAMERA_POS, F_CAMERA_TARGET, F_CAMERA_DIR, F_CAMERA_UP, F_FOV,
     F_WIDTH, F_HEIGHT, F_SIZE, F_METHOD, F_SAMPLES, F_SAMPLING, F_FALLBACK, F_SINGLE_SCATTERING,
@@ -43,6 +43,7 @@ static const struct { const char *path; enum kind kind; } rules[F_COUNT] = {
     [F_SIGMA_S_PRIME] = {"material.sigma_s_prime", K_COEFF},
     [F_ETA] = {"material.eta", K_NUM},
     [F_G] = {"material.g", K_NUM},
+    [F_PROFILE] = {"material.profile", K_STR},
     [F_LIGHT_DIR] = {"direction", K_LIGHT},
     [F_LIGHT_POS] = {"position", K_LIGHT},
     [F_LIGHT_COLOR] = {"color", K_LIGHT_VEC3},
@@ -79,6 +80,7 @@ const struct cli_option scene_options[] = {
     {"sigma-s-prime", 0, "R,G,B", "reduced scattering coefficients, mm^-1 (with --sigma-a)", F_SIGMA_S_PRIME},
     {"eta", 0, "X", "relative index of refraction, 1..3 (with coefficients)", F_ETA},
     {"g", 0, "X", "Henyey-Greenstein mean cosine for single scattering, -0.95..0.95", F_G},
+    {"profile", 0, "P", "diffusion profile: dipole (default), better_dipole or burley", F_PROFILE},
     {"light-dir", 0, "X,Y,Z", "adds a directional light travelling along X,Y,Z (up to 4 lights)", F_LIGHT_DIR},
     {"light-pos", 0, "X,Y,Z", "adds a point light at X,Y,Z (up to 4 lights)", F_LIGHT_POS},
     {"light-color", 0, "R,G,B", "colour of the light added last (before any: the scene's first light)", F_LIGHT_COLOR},

@@ -104,6 +104,13 @@ typedef struct lucent_mesh_ref {
     char id[LUCENT_MESH_ID_LEN + 1];  /* LUCENT_MESH_STORED: lowercase hex sha256 */
 } lucent_mesh_ref;
 
+/* The diffusion profile R(r) the image-space methods and the reference integrate (renderer/core/profile.h):
+ * dipole, Jensen et al. 2001's (the paper's); better_dipole, d'Eon 2012's (Grosjean's diffusion
+ * coefficient, Fresnel-moment boundary, exitance from fluence and flux); burley, Christensen and Burley
+ * 2015's normalized diffusion (two exponentials fitted to Monte Carlo, at the dipole's total albedo).
+ * Method "path" simulates the medium itself and uses none. */
+typedef enum lucent_profile { LUCENT_PROFILE_DIPOLE = 0, LUCENT_PROFILE_BETTER_DIPOLE, LUCENT_PROFILE_BURLEY } lucent_profile;
+
 /* Coefficients in mm^-1 per RGB channel (Jensen et al. 2001). */
 typedef struct lucent_material {
     char preset[32];       /* "" when given as coefficients */
@@ -112,6 +119,7 @@ typedef struct lucent_material {
     double eta;
     double g;              /* Henyey-Greenstein mean cosine, for single scattering only:
                             * sigma_s = sigma_s' / (1 - g) */
+    lucent_profile profile;
 } lucent_material;
 
 typedef struct lucent_light {
@@ -171,6 +179,8 @@ lucent_status lucent_scene_parse(const char *json, size_t len, int allow_files,
 lucent_status lucent_material_preset(const char *name, lucent_material *out);
 /* Name of preset i (0-based) or NULL past the end. */
 const char *lucent_material_preset_name(int i);
+/* material.profile's name for p, as the scene document spells it ("dipole", "better_dipole", "burley"). */
+const char *lucent_profile_name(lucent_profile p);
 
 /* ---- Images ---- */
 /* Linear float image with the AOVs the renderer produces. Arrays are row-major, top row first.

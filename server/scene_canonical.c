@@ -11,7 +11,7 @@
 
 /* A field added to lucent_scene must be added to scene_canonical() too, or two scenes that differ in
  * it would share an ETag and a cached image. This size check makes that impossible to miss. */
-_Static_assert(sizeof(lucent_scene) == 1832,
+_Static_assert(sizeof(lucent_scene) == 1840,
                "lucent_scene changed: serialize the new field in server/scene_canonical.c, then update this size");
 
 struct out {
@@ -64,6 +64,7 @@ int scene_canonical(const lucent_scene *s, char *buf, size_t cap)
     vec(&o, "material.sigma_s_prime", s->material.sigma_s_prime, 3);
     num(&o, "material.eta", s->material.eta);
     num(&o, "material.g", s->material.g);
+    put(&o, "material.profile=%d;", (int)s->material.profile);
     put(&o, "lights=%d;", s->light_count);
     for (int i = 0; i < s->light_count; i++) {
         const lucent_light *l = &s->lights[i];

@@ -11,7 +11,7 @@
 /* The mapping, also documented per parameter in server/openapi.json:
  *   mesh            -> mesh.builtin, or mesh.id when it is 64 hex digits
  *   mesh_triangles  -> mesh.triangles           scale_mm -> scale_mm
- *   preset          -> material.preset          sigma_a, sigma_s_prime (r,g,b), eta, g -> material.*
+ *   preset          -> material.preset          sigma_a, sigma_s_prime (r,g,b), eta, g, profile -> material.*
  *   light_type, light_dir, light_pos, light_color, light_intensity -> lights[0].type/direction/position/
  *                      color/intensity (one light; light_pos alone implies light_type=point)
  *   camera_pos, camera_target, camera_dir, camera_up, fov -> camera.position/target/direction/up/fov_deg
@@ -38,6 +38,7 @@ static const struct mapping table[] = {
     {"sigma_s_prime", "material", "sigma_s_prime", K_VECTOR},
     {"eta", "material", "eta", K_NUMBER},
     {"g", "material", "g", K_NUMBER},
+    {"profile", "material", "profile", K_STRING},
     {"light_type", "light", "type", K_STRING},
     {"light_dir", "light", "direction", K_VECTOR},
     {"light_pos", "light", "position", K_VECTOR},

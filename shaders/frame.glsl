@@ -23,10 +23,13 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     vec4 light_depth[MAX_LIGHTS];  // x near, y far, z 1 = perspective, w bias (scene units)
     vec4 params;                   // x eta, y mm per scene unit, z depth tolerance (scene units), w lights
     vec4 camera_eye;               // xyz camera position
-    vec4 sigma_tr;                 // mm^-1 per channel
-    vec4 z_r;                      // mm
-    vec4 z_v;                      // mm
-    vec4 alpha_prime;
+    // The diffusion profile (renderer/core/profile.h), per channel: two sources k at depth z (mm) with
+    // rate sigma (mm^-1), fluence coefficient a and flux coefficient b:
+    // R(r) = sum_k e^(-sigma_k D_k) (a_k / D_k + b_k (1 + sigma_k D_k) / D_k^3), D_k = sqrt(r^2 + z_k^2).
+    vec4 profile_z[2];
+    vec4 profile_sigma[2];
+    vec4 profile_a[2];
+    vec4 profile_b[2];
     vec4 rd_total;                 // xyz: R_d integrated out to the truncation radius; w: near disc radius (mm)
     // xyz: R_d integrated over the near disc's preimage on a surface tilted to the view by cosine c,
     // at 1 / c = 1 + (i / (NEAR_TABLE - 1)) (1 / MIN_AREA_COS - 1).

@@ -1,4 +1,4 @@
-// scatter.comp - the final passes: integrate the dipole profile over the prefiltered flux of the
+// scatter.comp - the final passes: integrate the diffusion profile over the prefiltered flux of the
 // projection images. The far annulus of the profile is integrated once per block of pixels (PASS_FAR),
 // gathered from every view's share of the surface (or, with one view or the paper's fallback, from the
 // view a point chooses); PASS_FAR_FILTER averages it over neighbouring blocks on the same surface; the
@@ -92,15 +92,53 @@ vec3 surface_irradiance(int k, ivec2 t, vec3 n)
 // 1e12 units wide at 1e9 mm a unit, an extremes case).
 const float FAR_MM = 1e18;
 
-float dipole_rd(int c, float r)
+// (1 - e^(-x)) / x, 1 at x = 0; the series where the difference would cancel in floats.
+float fraction(float x)
+{
+    return x < 1e-2 ? 1.0 - x * (0.5 - x / 6.0) : (1.0 - exp(-x)) / x;
+}
+
+// e^(-s d0) / d0 - e^(-s d1) / d1 for d1 >= d0 > 0, given gap = d1 - d0 (C: falloff_difference).
+float falloff_difference(float s, float d0, float d1, float gap)
+{
+    return exp(-s * d0) * gap * (1.0 + s * d0 * fraction(s * gap)) / (d0 * d1);
+}
+
+// The better dipole's fluence terms: a_1 = -a_0 at one rate (C: paired).
+bool paired(int c)
+{
+    return frame.profile_a[0][c] != 0.0 && frame.profile_a[1][c] == -frame.profile_a[0][c] &&
+           frame.profile_sigma[0][c] == frame.profile_sigma[1][c];
+}
+
+// The diffusion profile R(r) of channel c (frame.glsl; C: profile_rd). The floor on the distance
+// keeps normalized diffusion's sources at the exit point finite and its cube a normal float.
+float profile_rd(int c, float r)
 {
     if (!(r < FAR_MM))
         return 0.0;
-    float zr = frame.z_r[c], zv = frame.z_v[c], s = frame.sigma_tr[c];
-    float dr = sqrt(r * r + zr * zr), dv = sqrt(r * r + zv * zv);
-    float real = zr * (s * dr + 1.0) * exp(-s * dr) / (dr * dr * dr);
-    float virt = zv * (s * dv + 1.0) * exp(-s * dv) / (dv * dv * dv);
-    return frame.alpha_prime[c] / (4.0 * PI) * (real + virt);
+    float d[2], sum = 0.0;
+    for (int k = 0; k < 2; k++) {
+        float z = frame.profile_z[k][c], s = frame.profile_sigma[k][c];
+        d[k] = max(sqrt(r * r + z * z), 1e-12);
+        sum += frame.profile_b[k][c] * exp(-s * d[k]) * (s * d[k] + 1.0) / (d[k] * d[k] * d[k]);
+    }
+    if (paired(c)) {
+        float z0 = frame.profile_z[0][c], z1 = frame.profile_z[1][c];
+        float gap = (z1 - z0) * (z1 + z0) / (d[0] + d[1]);
+        return sum + frame.profile_a[0][c] * falloff_difference(frame.profile_sigma[0][c], d[0], d[1], gap);
+    }
+    for (int k = 0; k < 2; k++)
+        sum += frame.profile_a[k][c] * exp(-frame.profile_sigma[k][c] * d[k]) / d[k];
+    return sum;
+}
+
+// The paired fluence terms' integral outside radius t, over 2 pi (C: profile_tail).
+float paired_tail(int c, float t)
+{
+    float z0 = frame.profile_z[0][c], z1 = frame.profile_z[1][c], s = frame.profile_sigma[0][c];
+    float d0 = sqrt(t * t + z0 * z0), d1 = sqrt(t * t + z1 * z1), gap = (z1 - z0) * (z1 + z0) / (d0 + d1);
+    return frame.profile_a[0][c] * exp(-s * d0) * gap * fraction(s * gap);
 }
 
 // Rotation of the sample pattern per block turns structured aliasing into noise, which the compose
@@ -113,29 +151,34 @@ float pixel_rotation(ivec2 px)
     return float(h & 0xffffu) / 65536.0 * 2.0 * PI;
 }
 
-vec3 dipole_rd3(float r)
+vec3 profile_rd3(float r)
 {
-    return vec3(dipole_rd(0, r), dipole_rd(1, r), dipole_rd(2, r));
+    return vec3(profile_rd(0, r), profile_rd(1, r), profile_rd(2, r));
 }
 
-// R_d integrated over a disc of radius `radius` (mm) on a plane `dz` (mm) off the point, parallel to
-// the disc: with s = sqrt(r^2 + dz^2) the integral of R_d(s) 2 pi r dr is the plane's radial
-// integral between |dz| and sqrt(radius^2 + dz^2), which has a closed form (dipole.c,
-// dipole_rd_disc: alpha' / 2 sum over both sources of z e^(-sigma_tr d) / d).
+// R integrated over a disc of radius `radius` (mm) on a plane `dz` (mm) off the point, parallel to
+// the disc: T(|dz|) - T(sqrt(radius^2 + dz^2)) term by term so that narrow discs do not cancel; a wide
+// disc's paired fluence terms as the difference of their tails (C: profile_disc_offset).
 vec3 rd_disc_offset(float radius, float dz)
 {
     radius = min(radius, FAR_MM);
     dz = clamp(dz, -FAR_MM, FAR_MM);
     vec3 sum = vec3(0.0);
-    float inner2 = dz * dz, outer2 = radius * radius + dz * dz;
     for (int c = 0; c < 3; c++) {
-        float s = frame.sigma_tr[c], zr = frame.z_r[c], zv = frame.z_v[c];
-        float ri = sqrt(inner2 + zr * zr), vi = sqrt(inner2 + zv * zv);
-        float ro = sqrt(outer2 + zr * zr), vo = sqrt(outer2 + zv * zv);
-        sum[c] = 0.5 * frame.alpha_prime[c] * (zr * (exp(-s * ri) / ri - exp(-s * ro) / ro) +
-                                               zv * (exp(-s * vi) / vi - exp(-s * vo) / vo));
+        bool wide_pair = paired(c) && radius > frame.profile_z[1][c];
+        for (int k = 0; k < 2; k++) {
+            float z = frame.profile_z[k][c], s = frame.profile_sigma[k][c], b = frame.profile_b[k][c];
+            float inner = sqrt(dz * dz + z * z), outer = sqrt(dz * dz + z * z + radius * radius);
+            float delta = outer > 0.0 ? radius * radius / (inner + outer) : 0.0;
+            if (b != 0.0)
+                sum[c] += b * falloff_difference(s, inner, outer, delta);
+            if (!wide_pair)
+                sum[c] += frame.profile_a[k][c] * exp(-s * inner) * delta * fraction(s * delta);
+        }
+        if (wide_pair)
+            sum[c] += paired_tail(c, abs(dz)) - paired_tail(c, sqrt(radius * radius + dz * dz));
     }
-    return sum;
+    return 2.0 * PI * sum;
 }
 
 // Mean flux density over about `area_texels` texels of view k's projection image around `at`, from
@@ -196,7 +239,7 @@ vec3 light_through(int k, vec2 center, float depth, mat2 rotate, float mm_per_te
         if (!footprint_light(k, at, min(s.y, s.x * s.x) / (mm_per_texel * mm_per_texel), depth, flux, step))
             continue;
         float dz = step * frame.params.y;
-        vec3 rd = dipole_rd3(sqrt(s.x * s.x + dz * dz)), at_r = dipole_rd3(s.x);
+        vec3 rd = profile_rd3(sqrt(s.x * s.x + dz * dz)), at_r = profile_rd3(s.x);
         vec3 profile = SHARED_SAMPLES ? vec3(dot(at_r, 1.0 / (3.0 * frame.rd_total.rgb)) / frame.through_pdf.w)
                                       : at_r / frame.through_pdf.rgb;
         sum += flux * rd / (float(SAMPLES) * profile + 1.0 / s.y);
@@ -265,9 +308,9 @@ vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px, bool seen, float share)
             float r = sqrt(s.x * s.x + dz * dz);
             float weight = through ? 1.0 / (1.0 / s.y + 1.0 / frame.through[0].y) : s.y;
             if (SHARED_SAMPLES)
-                sum += flux * dipole_rd3(r) * weight;
+                sum += flux * profile_rd3(r) * weight;
             else
-                sum[c] += flux[c] * dipole_rd(c, r) * weight;
+                sum[c] += flux[c] * profile_rd(c, r) * weight;
         }
     }
     if (through)

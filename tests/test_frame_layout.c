@@ -20,10 +20,10 @@ int main(void)
     MEMBER(light_depth);
     MEMBER(params);
     MEMBER(camera_eye);
-    MEMBER(sigma_tr);
-    MEMBER(z_r);
-    MEMBER(z_v);
-    MEMBER(alpha_prime);
+    MEMBER(profile_z);
+    MEMBER(profile_sigma);
+    MEMBER(profile_a);
+    MEMBER(profile_b);
     MEMBER(rd_total);
     MEMBER(near_rd);
     MEMBER(single_albedo);

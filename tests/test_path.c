@@ -2,6 +2,7 @@
  * answers (Chandrasekhar's H-function for isotropic scattering, index-matched boundary), for both boundary
  * conventions; its own noise estimate against the error it makes; determinism; cancel and time budget. */
 #include "frame_plan.h"
+#include "half_space.h"
 #include "path.h"
 #include "test_support.h"
 
@@ -13,48 +14,11 @@
 #include <time.h>
 
 #define PI 3.14159265358979323846
-#define H_POINTS 2000
 
 static lucent_status fixture_render(const struct test_fixture *f, const struct path_options *o, lucent_image *img,
                                     struct path_report *report, lucent_error *err)
 {
     return path_render(&f->scene, f->mesh, &f->camera, f->scale_mm, o, 1, img, report, err);
-}
-
-/* Chandrasekhar's H(mu) for isotropic scattering of albedo w on a midpoint grid, by iterating
- * 1 / H(mu) = sqrt(1 - w) + w / 2 int_0^1 mu' H(mu') / (mu + mu') dmu'. */
-static void h_function(double w, double h[H_POINTS])
-{
-    for (int i = 0; i < H_POINTS; i++)
-        h[i] = 1.0;
-    for (int it = 0; it < 500; it++) {
-        double change = 0.0;
-        for (int i = 0; i < H_POINTS; i++) {
-            double mu = (i + 0.5) / H_POINTS, sum = 0.0;
-            for (int j = 0; j < H_POINTS; j++) {
-                double mj = (j + 0.5) / H_POINTS;
-                sum += mj * h[j] / (mu + mj);
-            }
-            double next = 1.0 / (sqrt(1.0 - w) + 0.5 * w * sum / H_POINTS);
-            change = fmax(change, fabs(next - h[i]));
-            h[i] = next;
-        }
-        if (change < 1e-12)
-            break;
-    }
-}
-
-/* The half-space's albedo for light entering straight down (plane albedo at mu0 = 1: 1 - H(1) sqrt(1 - w))
- * and for light entering diffusely (spherical albedo: 1 - 2 sqrt(1 - w) int H mu dmu). */
-static void half_space_albedo(double w, double *normal, double *diffuse)
-{
-    static double h[H_POINTS];
-    h_function(w, h);
-    double moment = 0.0, h1 = 1.5 * h[H_POINTS - 1] - 0.5 * h[H_POINTS - 2];   /* H at mu = 1 */
-    for (int i = 0; i < H_POINTS; i++)
-        moment += h[i] * (i + 0.5) / H_POINTS;
-    *normal = 1.0 - h1 * sqrt(1.0 - w);
-    *diffuse = 1.0 - 2.0 * sqrt(1.0 - w) * moment / H_POINTS;
 }
 
 /* A 200 mm square of index-matched medium (eta 1, g 0) seen and lit straight down, one pixel: mean free path

@@ -1,6 +1,7 @@
 /* test_reference.c - the CPU reference integrator: the diffuse limit on a flat square, the hierarchical
  * sum against brute force, bit-for-bit determinism across thread counts, and the extremes sigma_a = 0, eta = 1. */
 #include "dipole.h"
+#include "profile.h"
 #include "frame_plan.h"
 #include "reference.h"
 #include "test_support.h"
@@ -27,14 +28,14 @@ static void fixture_render(const struct test_fixture *f, const struct reference_
  * falls by e^-12 at its edge): the centre must be E Rd_total Ft(1)^2 / pi. The points' spacing is a
  * fraction of z_r = 1 mfp so the quadrature of R_d's peak is good to 0.16% (measured, skin1 red). */
 #define SQUARE_TOL 3e-3
-static void check_square(const char *square, const char *preset, uint32_t points)
+static void check_square(const char *square, const char *preset, const char *profile, uint32_t points)
 {
     char json[1400];
     snprintf(json, sizeof json,
-             "{\"mesh\":{\"file\":\"%s\"},\"scale_mm\":100,\"material\":{\"preset\":\"%s\"},"
+             "{\"mesh\":{\"file\":\"%s\"},\"scale_mm\":100,\"material\":{\"preset\":\"%s\",\"profile\":\"%s\"},"
              "\"lights\":[{\"type\":\"directional\",\"direction\":[0,0,-1]}],"
              "\"camera\":{\"direction\":[0,0,-1]},\"width\":33,\"height\":33}",
-             square, preset);
+             square, preset, profile);
     struct test_fixture f;
     test_fixture_open(&f, json);
     lucent_image img;
@@ -43,14 +44,14 @@ static void check_square(const char *square, const char *preset, uint32_t points
     const float *centre = &img.rgba[((size_t)16 * 33 + 16) * 4];
     for (int c = 0; c < 3; c++) {
         const lucent_material *m = &f.scene.material;
-        struct dipole d;
-        dipole_init(&d, m->sigma_a[c], m->sigma_s_prime[c], m->eta);
+        struct profile d;
+        profile_init(&d, m->profile, m->sigma_a[c], m->sigma_s_prime[c], m->g, m->eta);
         double ft = fresnel_transmittance(m->eta, 1.0);
-        double want = dipole_rd_total(&d) * ft * ft / PI, rel = fabs(centre[c] - want) / want;
-        test_check(rel < SQUARE_TOL, "square %-7s ch%d: centre %.6g, analytic %.6g, rel.err %.2e (tol %.0e; "
-                               "%u points, spacing %.3f mm, z_r %.3f mm, estimated %.1e, %.0f + %.0f ms)",
-                   preset, c, centre[c], want, rel, SQUARE_TOL, rep.points, rep.point_spacing_mm, d.z_r,
-                   rep.estimated_rel_error, rep.ms_points, rep.ms_pixels);
+        double want = profile_total(&d) * ft * ft / PI, rel = fabs(centre[c] - want) / want;
+        test_check(rel < SQUARE_TOL, "square %-7s %-13s ch%d: centre %.6g, analytic %.6g, rel.err %.2e (tol %.0e; "
+                               "%u points, spacing %.3f mm, mfp %.3f mm, estimated %.1e, %.0f + %.0f ms)",
+                   preset, profile, c, centre[c], want, rel, SQUARE_TOL, rep.points, rep.point_spacing_mm,
+                   1.0 / d.sigma_t_prime, rep.estimated_rel_error, rep.ms_points, rep.ms_pixels);
     }
     lucent_image_free(&img);
     lucent_mesh_free(f.mesh);
@@ -241,8 +242,10 @@ static void check_cancel(void)
 int main(void)
 {
     const char *square = test_write_square_obj();
-    check_square(square, "marble", 2000000);
-    check_square(square, "skin1", 2000000);
+    check_square(square, "marble", "dipole", 2000000);
+    check_square(square, "skin1", "dipole", 2000000);
+    check_square(square, "skin1", "better_dipole", 2000000);
+    check_square(square, "skin1", "burley", 2000000);
     const char *meshes[] = {"sphere", "protrusion"}, *presets[] = {"marble", "ketchup"};
     for (int m = 0; m < 2; m++)
         for (int p = 0; p < 2; p++)

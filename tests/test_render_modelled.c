@@ -3,6 +3,7 @@
  * the point light's 1/d^2 falloff and the far annulus's block size, each against what `modelled`
  * reports or a closed form. */
 #include "dipole.h"
+#include "profile.h"
 #include "test_support.h"
 
 #include <math.h>
@@ -141,9 +142,9 @@ static void check_self_shadow(lucent_renderer *r, const char *shelf)
         test_render(r, json, &img, &stats);
         double dark = test_luminance(pixel(&img, in_shadow, row)), bright = test_luminance(pixel(&img, lit, row));
         double want = 0.0, got_red = pixel(&img, lit, row)[0];
-        struct dipole d;
-        dipole_init(&d, m.sigma_a[0], m.sigma_s_prime[0], m.eta);
-        want = cos_i * dipole_rd_total(&d) * ft * ft / PI;
+        struct profile d;
+        dipole_classic(&d, m.sigma_a[0], m.sigma_s_prime[0], m.eta);
+        want = cos_i * profile_total(&d) * ft * ft / PI;
         double rel = fabs(got_red - want) / want;
         int mapped = k == 3 || stats.shadow_maps == 1;
         test_check(mapped && bright > 0.0 && dark <= SHADOW_RATIO_BOUND * bright && rel < LIT_TOL,
@@ -187,10 +188,10 @@ static void check_point_falloff(lucent_renderer *r, const char *square)
             test_render(r, json, &img, NULL);
             double d2 = pos[0] * pos[0] + pos[1] * pos[1] + pos[2] * pos[2], cos_i = pos[2] / sqrt(d2);
             centre[p] = pixel(&img, 16, 16)[1];
-            struct dipole d;
-            dipole_init(&d, m.sigma_a[1], m.sigma_s_prime[1], m.eta);
+            struct profile d;
+            dipole_classic(&d, m.sigma_a[1], m.sigma_s_prime[1], m.eta);
             double ft_in = fresnel_transmittance(m.eta, cos_i);
-            double want = 5.0 * cos_i / d2 * ft_in * dipole_rd_total(&d) * ft_out / PI, rel = fabs(centre[p] - want) / want;
+            double want = 5.0 * cos_i / d2 * ft_in * profile_total(&d) * ft_out / PI, rel = fabs(centre[p] - want) / want;
             double tol = pos[0] == 0.0 ? FALLOFF_TOL : tolerances[k];   /* on the axis the gradient is 0 */
             test_check(rel < tol, "point light at (%g,%g,%g), %-9s: centre green %.6g vs I cos/d^2 Ft Rd Ft/pi %.6g "
                                   "(rel.err %.2e, tol %.0e)",
@@ -336,6 +337,25 @@ static void check_far_blocks(lucent_renderer *r)
                disc[2] / disc[1]);
 }
 
+/* The profile a render integrated is named in what it modelled, by the image-space and the CPU methods. */
+static void check_profile_reported(lucent_renderer *r)
+{
+    static const char *const methods[] = {"five", "auto", "reference"};
+    for (int m = 0; m < 3; m++) {
+        char json[300];
+        snprintf(json, sizeof json,
+                 "{\"mesh\":{\"builtin\":\"sphere\"},\"material\":{\"preset\":\"skin1\",\"profile\":\"better_dipole\"},"
+                 "\"width\":24,\"height\":24,\"method\":\"%s\"%s}",
+                 methods[m], m == 2 ? ",\"reference\":{\"points\":2000}" : "");
+        lucent_image img;
+        lucent_stats stats;
+        test_render(r, json, &img, &stats);
+        test_check(strstr(stats.modelled, "\"profile\":\"better_dipole\"") != NULL,
+                   "method %s names the profile it integrated (better_dipole) in modelled", methods[m]);
+        lucent_image_free(&img);
+    }
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2) {
@@ -346,6 +366,7 @@ int main(int argc, char **argv)
     const char *square = test_write_square_obj(), *shelf = write_shelf_obj();
     const char *light = "{\"direction\":[-1,-0.3,-0.5]}";
     char lights[300];
+    check_profile_reported(r);
     check_shadow_rule(r, "sphere", light, 0, "skipped: mesh is convex");
     check_shadow_rule(r, "protrusion", light, 1, "\"shadow map\"");
     check_shadow_rule(r, "protrusion", "{\"direction\":[-1,0,0],\"intensity\":0}", 0, "skipped: light is black");

@@ -228,6 +228,10 @@ static const parse_case cases[] = {
     {"{\"material\": {\"sigma_a\": [0,0,0], \"sigma_s_prime\": [1,1,1], \"g\": 0.9}}", 0, OK, ""},
     {"{\"material\": {\"preset\": \"skin1\", \"g\": -0.5}}", 0, OK, ""},
     {"{\"material\": {\"preset\": \"skin1\", \"g\": 0.96}}", 0, INV, "material.g"},
+    {"{\"material\": {\"preset\": \"skin1\", \"profile\": \"burley\"}}", 0, OK, ""},
+    {"{\"material\": {\"sigma_a\": [0,0,0], \"sigma_s_prime\": [1,1,1], \"profile\": \"Better_Dipole\"}}", 0, OK, ""},
+    {"{\"material\": {\"preset\": \"skin1\", \"profile\": \"multipole\"}}", 0, INV, "material.profile"},
+    {"{\"material\": {\"preset\": \"skin1\", \"profile\": 2}}", 0, INV, "material.profile"},
     {"{\"material\": {\"sigma_a\": [0,0,0], \"sigma_s_prime\": [1,1,1], \"g\": 1}}", 0, INV, "material.g"},
     {"{\"format\": \"exr\"}", 0, OK, ""},
     {"{\"format\": \"jpg\"}", 0, INV, "format"},
@@ -380,6 +384,10 @@ static void test_values(void)
               s.camera.direction[0] == 0 && near(s.camera.direction[1], -0.6, 1e-15) &&
               near(s.camera.direction[2], 0.8, 1e-15),
           "camera.direction: framed automatically (given 0), normalized");
+    check(parse("{\"material\": {\"preset\": \"marble\", \"profile\": \"BURLEY\"}}", &s) &&
+              s.material.profile == LUCENT_PROFILE_BURLEY && strcmp(s.material.preset, "marble") == 0 &&
+              parse("{\"material\": {\"preset\": \"marble\"}}", &s) && s.material.profile == LUCENT_PROFILE_DIPOLE,
+          "material.profile with a preset; a material without one is the classic dipole");
 }
 
 /* Total diffuse reflectance of the dipole (research notes §1.3), used to check the transcription

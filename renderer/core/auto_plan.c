@@ -2,7 +2,7 @@
  * from how many texels the kernel covers, and draws the side views only where light enters unseen. */
 #include "auto_plan.h"
 
-#include "dipole.h"
+#include "profile.h"
 #include "frame_plan.h"
 #include "linalg.h"
 
@@ -22,13 +22,13 @@ static int next_pow2(double x, int lo, int hi)
     return p;
 }
 
-/* Radius (mm) holding KERNEL_ENERGY of R_d's integral out to r_max: bisection on the closed-form disc. */
-static double kernel_radius(const struct dipole *d, double r_max)
+/* Radius (mm) holding KERNEL_ENERGY of the profile's integral out to r_max: bisection on the closed-form disc. */
+static double kernel_radius(const struct profile *d, double r_max)
 {
-    double target = KERNEL_ENERGY * dipole_rd_disc(d, r_max), lo = 0.0, hi = r_max;
+    double target = KERNEL_ENERGY * profile_disc(d, r_max), lo = 0.0, hi = r_max;
     for (int i = 0; i < 60; i++) {
         double mid = 0.5 * (lo + hi);
-        if (dipole_rd_disc(d, mid) < target)
+        if (profile_disc(d, mid) < target)
             lo = mid;
         else
             hi = mid;
@@ -60,8 +60,9 @@ lucent_status auto_plan_choose(const lucent_scene *scene, const struct lucent_me
     double scale_mm = frame_scale_mm(scene, mesh), r_max = 2.0 * mesh->radius * scale_mm;
     double widest = 0.0, narrowest = INFINITY;
     for (int c = 0; c < 3; c++) {
-        struct dipole d;
-        dipole_init(&d, scene->material.sigma_a[c], scene->material.sigma_s_prime[c], scene->material.eta);
+        struct profile d;
+        profile_init(&d, scene->material.profile, scene->material.sigma_a[c], scene->material.sigma_s_prime[c],
+                     scene->material.g, scene->material.eta);
         double r = kernel_radius(&d, r_max);
         widest = fmax(widest, r);
         narrowest = fmin(narrowest, r);

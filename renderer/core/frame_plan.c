@@ -2,7 +2,7 @@
  * Coordinates here are mesh-centred scene units; the request's are shifted by the mesh centre. */
 #include "frame_plan.h"
 
-#include "dipole.h"
+#include "profile.h"
 #include "linalg.h"
 #include "view_frame.h"
 
@@ -296,12 +296,12 @@ static void set_sample(float sample[4], double radius, double weight, double phi
 
 /* Each channel samples its own profile: weight R_trunc / (n R_d(r)). The spiral is turned by a
  * third per channel so the channels' samples do not land on the same texels. */
-static void per_channel_samples(const struct dipole d[3], double r_min, double r_max, int n,
+static void per_channel_samples(const struct profile d[3], double r_min, double r_max, int n,
                                 struct frame_uniforms *u)
 {
     double radii[LUCENT_MAX_SAMPLES], weights[LUCENT_MAX_SAMPLES];
     for (int c = 0; c < 3; c++) {
-        dipole_sample_radii(&d[c], r_min, r_max, n, radii, weights);
+        profile_sample_radii(&d[c], r_min, r_max, n, radii, weights);
         for (int j = 0; j < n; j++)
             set_sample(u->samples[c * LUCENT_MAX_SAMPLES + j], radii[j], weights[j] / n,
                        j * GOLDEN_ANGLE + c * 2.0 * PI / 3.0);
@@ -310,17 +310,17 @@ static void per_channel_samples(const struct dipole d[3], double r_min, double r
 
 /* One set of n radii, stratified over the mixture of the three channels' profiles; every texel
  * feeds all channels, each weighted by 1 / (n p_mix(r)). */
-static void shared_samples(const struct dipole d[3], double r_min, double r_max, int n, struct frame_uniforms *u)
+static void shared_samples(const struct profile d[3], double r_min, double r_max, int n, struct frame_uniforms *u)
 {
     double radii[LUCENT_MAX_SAMPLES], weights[LUCENT_MAX_SAMPLES];
-    dipole_mixture_radii(d, r_min, r_max, n, radii, weights);
+    profile_mixture_radii(d, r_min, r_max, n, radii, weights);
     for (int j = 0; j < n; j++)
         set_sample(u->samples[j], radii[j], weights[j], j * GOLDEN_ANGLE);
 }
 
 /* The light views' evenly spread samples over the annulus r_min..r_max (equal areas, golden-angle
  * turns), and the far samples' densities to weigh both sets against each other (balance heuristic). */
-static void through_samples(const struct dipole d[3], double r_min, double r_max, int n, struct frame_uniforms *u)
+static void through_samples(const struct profile d[3], double r_min, double r_max, int n, struct frame_uniforms *u)
 {
     double area = PI * (r_max * r_max - r_min * r_min) / n, span_mix = 0.0;
     for (int j = 0; j < n; j++) {
@@ -328,7 +328,7 @@ static void through_samples(const struct dipole d[3], double r_min, double r_max
         set_sample(u->through[j], r, area, j * GOLDEN_ANGLE + 1.0);
     }
     for (int c = 0; c < 3; c++) {
-        double total = dipole_rd_disc(&d[c], r_max), span = total - dipole_rd_disc(&d[c], r_min);
+        double total = profile_disc(&d[c], r_max), span = total - profile_disc(&d[c], r_min);
         u->through_pdf[c] = (float)span;
         span_mix += span / (3.0 * total);
     }
@@ -338,13 +338,13 @@ static void through_samples(const struct dipole d[3], double r_min, double r_max
 /* R_d over the preimage of the projection-plane disc of radius r on a surface tilted to the view by
  * cosine c: an ellipse with semi-axes r and r / c, whose boundary lies r sqrt(cos^2 phi + sin^2 phi / c^2)
  * from its centre; the mean of the disc integral to that distance over phi. */
-static double rd_ellipse(const struct dipole *d, double r, double c)
+static double rd_ellipse(const struct profile *d, double r, double c)
 {
     enum { STEPS = 32 };
     double sum = 0.0;
     for (int i = 0; i < STEPS; i++) {
         double phi = (i + 0.5) * (0.5 * PI / STEPS), sp = sin(phi), cp = cos(phi);
-        sum += dipole_rd_disc(d, r * sqrt(cp * cp + sp * sp / (c * c)));
+        sum += profile_disc(d, r * sqrt(cp * cp + sp * sp / (c * c)));
     }
     return sum / STEPS;
 }
@@ -368,15 +368,18 @@ static void plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
                     : plan->far_block > 1  ? fmin(plan->far_block * camera_pixel_mm(s, plan), r_max)
                                            : 0.0;
     plan->near_disc_mm = r_near;
-    struct dipole d[3];
+    struct profile d[3];
     double g = s->material.g;
     for (int c = 0; c < 3; c++) {
-        dipole_init(&d[c], s->material.sigma_a[c], s->material.sigma_s_prime[c], s->material.eta);
-        u->sigma_tr[c] = (float)d[c].sigma_tr;
-        u->z_r[c] = (float)d[c].z_r;
-        u->z_v[c] = (float)d[c].z_v;
-        u->alpha_prime[c] = (float)d[c].alpha_prime;
-        u->rd_total[c] = (float)dipole_rd_disc(&d[c], r_max);
+        profile_init(&d[c], s->material.profile, s->material.sigma_a[c], s->material.sigma_s_prime[c], g,
+                     s->material.eta);
+        for (int k = 0; k < 2; k++) {
+            u->profile_z[k][c] = (float)d[c].z[k];
+            u->profile_sigma[k][c] = (float)d[c].sigma[k];
+            u->profile_a[k][c] = (float)d[c].a[k];
+            u->profile_b[k][c] = (float)d[c].b[k];
+        }
+        u->rd_total[c] = (float)profile_disc(&d[c], r_max);
         for (int i = 0; i < FRAME_NEAR_TABLE; i++) {
             double inv_cos = 1.0 + (double)i / (FRAME_NEAR_TABLE - 1) * (1.0 / FRAME_MIN_AREA_COS - 1.0);
             u->near_rd[i][c] = (float)rd_ellipse(&d[c], r_near, 1.0 / inv_cos);
@@ -389,13 +392,14 @@ static void plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
     u->single_albedo[3] = (float)g;
     u->owned[0] = (float)frame_owned_shift(s->projection_size);
     /* The owned images weigh their depths by e^(rate (depth - centre)) (ownership.comp): R_d falls
-     * about as e^(-sigma_tr d), so the light of a footprint across a depth range lies nearer than its
+     * about as e^(-sigma_tr d) (profile_decay_rate), so the light of a footprint across a depth range lies nearer than its
      * linear mean depth (which left the back-lit sphere 0.76-0.85 of the reference's mean at 256^2).
      * d grows with the depth difference at the rate of its cosine (the light crossing at an angle):
      * half the slowest channel's sigma_tr measured best (sphere 0.88-0.90; the full rate: 0.96-1.07,
      * but rim-lit torus and ketchup sphere 1.16-1.17). Capped so that e^(+-rate radius) fits a float. */
     double view_radius = mesh->radius * FRAME_FIT_MARGIN;
-    double sigma_min = 0.5 * fmin(d[0].sigma_tr, fmin(d[1].sigma_tr, d[2].sigma_tr)) * plan->scale_mm;
+    double sigma_min = 0.5 * fmin(profile_decay_rate(&d[0]), fmin(profile_decay_rate(&d[1]), profile_decay_rate(&d[2]))) *
+                       plan->scale_mm;
     u->owned[2] = (float)fmin(fmax(sigma_min, FRAME_DEPTH_RATE_MIN / view_radius), FRAME_DEPTH_RATE_MAX / view_radius);
     u->owned[3] = (float)(2.0 * view_radius);
     if (plan->scatter_samples == 0)

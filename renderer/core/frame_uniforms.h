@@ -30,10 +30,12 @@ struct frame_uniforms {
     float light_depth[LUCENT_MAX_LIGHTS][4];
     float params[4];
     float camera_eye[4];
-    float sigma_tr[4];
-    float z_r[4];
-    float z_v[4];
-    float alpha_prime[4];
+    /* The diffusion profile's two sources k per channel (struct profile): depth (mm), rate (mm^-1),
+     * fluence and flux coefficients. */
+    float profile_z[2][4];
+    float profile_sigma[2][4];
+    float profile_a[2][4];
+    float profile_b[2][4];
     float rd_total[4];
     float near_rd[FRAME_NEAR_TABLE][4];
     float single_albedo[4];

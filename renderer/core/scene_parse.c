@@ -74,6 +74,9 @@ static const char *const method_names[] = {
     [LUCENT_METHOD_AUTO] = "auto", [LUCENT_METHOD_PATH] = "path", NULL};
 static const char *const path_boundary_names[] = {
     [LUCENT_PATH_FRESNEL] = "fresnel", [LUCENT_PATH_CYCLES] = "cycles", NULL};
+static const char *const profile_names[] = {
+    [LUCENT_PROFILE_DIPOLE] = "dipole", [LUCENT_PROFILE_BETTER_DIPOLE] = "better_dipole",
+    [LUCENT_PROFILE_BURLEY] = "burley", NULL};
 static const char *const fallback_names[] = {
     [LUCENT_FALLBACK_NEXT_BEST] = "next_best", [LUCENT_FALLBACK_FRONT] = "front", NULL};
 /* Fields method "auto" chooses itself; giving one with it is a conflict, not silently ignored. */
@@ -92,10 +95,15 @@ static const char *const top_keys[] = {"mesh", "scale_mm", "material", "lights",
 static const char *const reference_keys[] = {"points", "threshold", NULL};
 static const char *const path_keys[] = {"samples", "time_s", "boundary", "seed", NULL};
 static const char *const mesh_keys[] = {"builtin", "triangles", "file", "id", NULL};
-static const char *const material_keys[] = {"preset", "sigma_a", "sigma_s_prime", "eta", "g", NULL};
+static const char *const material_keys[] = {"preset", "sigma_a", "sigma_s_prime", "eta", "g", "profile", NULL};
 static const char *const directional_keys[] = {"type", "direction", "color", "intensity", NULL};
 static const char *const point_keys[] = {"type", "position", "color", "intensity", NULL};
 static const char *const camera_keys[] = {"position", "target", "direction", "up", "fov_deg", NULL};
+
+const char *lucent_profile_name(lucent_profile p)
+{
+    return (unsigned)p < sizeof profile_names / sizeof profile_names[0] - 1 ? profile_names[p] : "unknown";
+}
 
 /* ---- Text for messages ---- */
 
@@ -475,12 +483,14 @@ static lucent_status parse_preset(json_t *obj, lucent_material *mat, lucent_erro
     /* Checked first: with a preset present, any other key is a conflict, not merely unknown. */
     for (void *it = json_object_iter(obj); it; it = json_object_iter_next(obj, it)) {
         char path[PATH_CAP];
-        if (strcmp(json_object_iter_key(it), "preset") == 0 || strcmp(json_object_iter_key(it), "g") == 0)
+        const char *key = json_object_iter_key(it);
+        if (strcmp(key, "preset") == 0 || strcmp(key, "g") == 0 || strcmp(key, "profile") == 0)
             continue;
         path_key(path, "material", json_object_iter_key(it));
         return lucent_fail(err, LUCENT_E_INVALID, path,
                            "cannot be combined with \"preset\"; give either a preset (and optionally "
-                           "\"g\") or \"sigma_a\", \"sigma_s_prime\" and optionally \"eta\" and \"g\"");
+                           "\"g\" and \"profile\") or \"sigma_a\", \"sigma_s_prime\" and optionally \"eta\", "
+                           "\"g\" and \"profile\"");
     }
     const json_t *v = json_object_get(obj, "preset");
     if (json_is_string(v) && lucent_material_preset(json_string_value(v), mat) == LUCENT_OK)
@@ -521,8 +531,12 @@ static lucent_status parse_material(json_t *v, lucent_material *mat, lucent_erro
         st = check_known_keys(v, material_keys, "material", err);
     if (st != LUCENT_OK)
         return st;
-    return json_object_get(v, "preset") ? parse_preset(v, mat, err)
-                                        : parse_coefficients(v, mat, err);
+    st = json_object_get(v, "preset") ? parse_preset(v, mat, err) : parse_coefficients(v, mat, err);
+    int profile = (int)LUCENT_PROFILE_DIPOLE;
+    if (st == LUCENT_OK)
+        st = get_enum(v, "material", "profile", profile_names, &profile, err);
+    mat->profile = (lucent_profile)profile;
+    return st;
 }
 
 static lucent_light default_light(void)

@@ -231,14 +231,16 @@ static void describe(const lucent_scene *requested, const lucent_scene *s, const
     if (chosen)
         snprintf(choices, sizeof choices, "\"auto\":{%s},", chosen->decisions);
     snprintf(stats->modelled, sizeof stats->modelled,
-             "{\"method\":\"%s\",\"backend\":\"%s\",\"device\":\"%s\",%s\"views\":%d,\"subsurface\":\"%s\",\"samples_per_channel\":%d,"
+             "{\"method\":\"%s\",\"backend\":\"%s\",\"device\":\"%s\",%s\"views\":%d,\"profile\":\"%s\","
+             "\"subsurface\":\"%s\",\"samples_per_channel\":%d,"
              "\"sampling\":\"%s\",\"texel_fetches_per_far_sample\":%d,\"far_block_pixels\":%d,"
              "\"near_disc_mm\":%.6g,\"projection_size\":%d,"
              "\"side_projection_size\":%d,\"scale_mm\":%.9g,\"shadows\":[%s],\"transmission\":[%s],"
              "\"projection_triangles\":{\"front\":%u,\"sides_and_shadows\":%u},"
              "\"hidden_point_fallback\":\"%s\",\"single_scattering\":%s}",
              method_name(requested->method), stats->backend, device, choices, plan->view_count,
-             samples ? "sampled dipole" : "diffuse limit (irradiance x total R_d)", samples,
+             lucent_profile_name(s->material.profile),
+             samples ? "sampled profile" : "diffuse limit (irradiance x total R_d)", samples,
              shared ? "shared" : "per_channel", samples ? gathered * (shared ? samples : 3 * samples) : 0,
              samples ? plan->far_block : 0, plan->near_disc_mm, s->projection_size,
              plan->view_count > 1 ? plan->side_projection_size : 0, plan->scale_mm, lights, through,
@@ -282,10 +284,12 @@ static lucent_status render_reference(lucent_renderer *r, const lucent_scene *sc
         return st;
     stats->triangles = gm->mesh->triangle_count;
     snprintf(stats->modelled, sizeof stats->modelled,
-             "{\"method\":\"reference\",\"backend\":\"cpu\",\"scale_mm\":%.9g,\"points\":%u,\"point_spacing_mm\":%.6g,"
+             "{\"method\":\"reference\",\"backend\":\"cpu\",\"profile\":\"%s\",\"scale_mm\":%.9g,\"points\":%u,"
+             "\"point_spacing_mm\":%.6g,"
              "\"min_mean_free_path_mm\":%.6g,\"sum\":\"%s\",\"threshold\":%.6g,\"estimated_rel_error\":%.3g,"
              "\"ms_points\":%.3f,\"ms_pixels\":%.3f,\"single_scattering\":%s}",
-             scale_mm, report.points, report.point_spacing_mm, report.min_mean_free_path_mm,
+             lucent_profile_name(scene->material.profile), scale_mm, report.points, report.point_spacing_mm,
+             report.min_mean_free_path_mm,
              options.brute_force ? "brute force" : "hierarchical", report.threshold, report.estimated_rel_error,
              report.ms_points, report.ms_pixels, scene->single_scattering ? "true" : "false");
     return LUCENT_OK;

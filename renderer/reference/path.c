@@ -112,15 +112,6 @@ static double hg_cosine(double g, double u)
     return fmin(fmax((1.0 + g * g - k * k) / (2.0 * g), -1.0), 1.0);
 }
 
-/* Fresnel reflectance from inside (relative index 1 / eta), total internal reflection included. */
-static double internal_reflectance(double eta, double cos_i)
-{
-    double c = fmin(fmax(cos_i, 0.0), 1.0), k = 1.0 / eta;
-    if (c == 0.0 || k * k - 1.0 + c * c <= 0.0)
-        return 1.0;
-    return 1.0 - fresnel_transmittance(k, c);
-}
-
 /* F_ext: the hemispherical average of the Fresnel reflectance from outside, 2 int F(mu) mu dmu. */
 static double external_diffuse_reflectance(double eta)
 {
@@ -197,7 +188,7 @@ static double walk(struct context *ctx, int c, const double p0[3], const double 
                 for (int a = 0; a < 3; a++)
                     n[a] = -n[a], g[a] = -g[a];
             double cos_i = v3_dot(d, n) > 0.0 ? v3_dot(d, n) : v3_dot(d, g);
-            if (ctx->boundary == LUCENT_PATH_FRESNEL && uniform(rng) < internal_reflectance(ctx->eta, cos_i)) {
+            if (ctx->boundary == LUCENT_PATH_FRESNEL && uniform(rng) < fresnel_internal_reflectance(ctx->eta, cos_i)) {
                 double k = 2.0 * v3_dot(d, g);
                 for (int a = 0; a < 3; a++)
                     d[a] -= k * g[a];

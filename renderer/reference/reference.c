@@ -8,6 +8,7 @@
 #include "reference_single.h"
 #include "visible_point.h"
 #include "dipole.h"
+#include "profile.h"
 #include "linalg.h"
 
 #include <float.h>
@@ -49,7 +50,7 @@ struct context {
     const struct lucent_mesh *mesh;
     const struct view_frame *camera;
     struct bvh *bvh;
-    struct dipole dipole[3];
+    struct profile profile[3];
     double scale_mm, threshold, eta;
     double near_radius;      /* scene units: points closer than this are integrated as a disc */
     double point_area_mm2;
@@ -162,7 +163,7 @@ static double min_mean_free_path(const struct context *ctx)
 {
     double mfp = INFINITY;
     for (int c = 0; c < 3; c++)
-        mfp = fmin(mfp, 1.0 / ctx->dipole[c].sigma_t_prime);
+        mfp = fmin(mfp, 1.0 / ctx->profile[c].sigma_t_prime);
     return mfp;
 }
 
@@ -324,7 +325,7 @@ static void sum_points(const struct context *ctx, const double x[3], size_t firs
             continue;
         }
         for (int c = 0; c < 3; c++)
-            sum[c] += f[c] * dipole_rd(&ctx->dipole[c], r);
+            sum[c] += f[c] * profile_rd(&ctx->profile[c], r);
     }
 }
 
@@ -336,7 +337,7 @@ static void add_near_disc(const struct context *ctx, const struct near_disc *nea
         return;
     double area = near->count * ctx->point_area_mm2, radius = sqrt(area / PI);
     for (int c = 0; c < 3; c++)
-        sum[c] += near->flux[c] / area * dipole_rd_disc(&ctx->dipole[c], radius);
+        sum[c] += near->flux[c] / area * profile_disc(&ctx->profile[c], radius);
 }
 
 static double box_distance(const struct point_node *n, const double x[3])
@@ -365,7 +366,7 @@ static void sum_tree(const struct context *ctx, const double x[3], double sum[3]
         if (distance >= ctx->near_radius && node->extent < ctx->threshold * distance) {
             for (int c = 0; c < 3; c++)
                 if (node->flux[c] > 0.0)
-                    sum[c] += node->flux[c] * dipole_rd(&ctx->dipole[c], distance_mm(ctx, x, node->centroid[c]));
+                    sum[c] += node->flux[c] * profile_rd(&ctx->profile[c], distance_mm(ctx, x, node->centroid[c]));
         } else if (node->count > 0) {
             sum_points(ctx, x, node->first, (size_t)node->first + node->count, sum, near);
         } else {
@@ -482,7 +483,8 @@ lucent_status reference_render(const lucent_scene *scene, const struct lucent_me
     if ((st = lucent_image_alloc(out, scene->width, scene->height, with_aovs, err)) != LUCENT_OK)
         return st;
     for (int c = 0; c < 3; c++)
-        dipole_init(&ctx.dipole[c], scene->material.sigma_a[c], scene->material.sigma_s_prime[c], ctx.eta);
+        profile_init(&ctx.profile[c], scene->material.profile, scene->material.sigma_a[c], scene->material.sigma_s_prime[c],
+                     scene->material.g, ctx.eta);
     /* Convex meshes cannot shadow themselves; a shadow ray there would only darken the terminator
      * where interpolated normals face the light and flat facets do not (the raster pass skips too). */
     ctx.shadows = !mesh->convex;

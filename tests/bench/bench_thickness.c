@@ -13,6 +13,7 @@
 #include "bench_scene.h"
 #include "bvh.h"
 #include "dipole.h"
+#include "profile.h"
 #include "flat_cube.h"
 #include "frame_plan.h"
 #include "linalg.h"
@@ -83,7 +84,7 @@ struct thickness_ctx {
     const struct geometry *geo;
     struct view_frame camera;
     double scale_mm;
-    struct dipole dipole[3];
+    struct profile profile[3];
 };
 
 struct outputs {
@@ -165,18 +166,6 @@ static void free_geometry(struct geometry *g)
     *g = (struct geometry){0};
 }
 
-/* The plane-integrated dipole at depth s_mm: rd_disc_offset of scatter.comp with an infinite radius. */
-static double transmittance(const struct dipole *d, double s_mm)
-{
-    const double z[2] = {d->z_r, d->z_v};
-    double sum = 0.0;
-    for (int k = 0; k < 2; k++) {
-        double dist = sqrt(s_mm * s_mm + z[k] * z[k]);
-        sum += z[k] * exp(-d->sigma_tr * dist) / dist;
-    }
-    return 0.5 * d->alpha_prime * sum;
-}
-
 /* Unit direction from p (mesh-centred) toward light l, its falloff there and the distance to it
  * (infinite for directional lights), as the reference's irradiance() has them. */
 static void toward_light(const struct thickness_ctx *ctx, int l, const double p[3], double dir[3], double *falloff,
@@ -238,7 +227,7 @@ static void add_light(const struct thickness_ctx *ctx, int l, const double p[3],
     double eta = ctx->scene->material.eta, cos_q = fmax(v3_dot(n_q, dir), 0.0);
     double k = falloff * cos_q * fresnel_transmittance(eta, cos_q) * fresnel_transmittance(eta, facing) / PI;
     for (int c = 0; c < 3; c++)
-        rgb[c] += light->color[c] * light->intensity * k * transmittance(&ctx->dipole[c], s * ctx->scale_mm);
+        rgb[c] += light->color[c] * light->intensity * k * profile_tail(&ctx->profile[c], s * ctx->scale_mm);
 }
 
 /* The thickness term of pixel (x, y), the camera ray cast as the reference casts it; returns 0 where the
@@ -312,7 +301,8 @@ static lucent_status set_up_thickness(const lucent_scene *s, const struct geomet
         return lucent_fail(err, LUCENT_E_INTERNAL, "scale_mm", "the reference used %.9g mm per unit, this bench %.9g",
                            reported, ctx->scale_mm);
     for (int c = 0; c < 3; c++)
-        dipole_init(&ctx->dipole[c], s->material.sigma_a[c], s->material.sigma_s_prime[c], s->material.eta);
+        profile_init(&ctx->profile[c], s->material.profile, s->material.sigma_a[c], s->material.sigma_s_prime[c],
+                     s->material.g, s->material.eta);
     return LUCENT_OK;
 }
 

@@ -1,0 +1,248 @@
+/* profile.c - evaluation, closed-form integrals and sampling tables of the two-source diffusion profiles
+ * (profile.h). Written for the extremes: sigma_a = 0, eta = 1, coefficients from 1e-6 to 1e5 mm^-1. */
+#include "profile.h"
+#include "dipole.h"
+#include "linalg.h"
+#include "normalized_diffusion.h"
+
+#include <math.h>
+
+void profile_init(struct profile *p, lucent_profile kind, double sigma_a, double sigma_s_prime, double g,
+                  double eta)
+{
+    if (kind == LUCENT_PROFILE_BETTER_DIPOLE)
+        dipole_better(p, sigma_a, sigma_s_prime, eta);
+    else if (kind == LUCENT_PROFILE_BURLEY)
+        burley_profile(p, sigma_a, sigma_s_prime, g, eta);
+    else
+        dipole_classic(p, sigma_a, sigma_s_prime, eta);
+}
+
+/* (1 - e^(-x)) / x, 1 at x = 0. */
+static double fraction(double x)
+{
+    return x > 1e-8 ? -expm1(-x) / x : 1.0 - 0.5 * x;
+}
+
+/* e^(-s d0) / d0 - e^(-s d1) / d1 for d1 >= d0 > 0, given gap = d1 - d0 (computed without cancelling):
+ * e^(-s d0) gap (1 + s d0 fraction(s gap)) / (d0 d1). */
+static double falloff_difference(double s, double d0, double d1, double gap)
+{
+    return exp(-s * d0) * gap * (1.0 + s * d0 * fraction(s * gap)) / (d0 * d1);
+}
+
+/* The better dipole's fluence terms: a_1 = -a_0 at one rate, the virtual source below the real one. */
+static int paired(const struct profile *p)
+{
+    return p->a[0] != 0.0 && p->a[1] == -p->a[0] && p->sigma[0] == p->sigma[1];
+}
+
+/* Distance from the exit point's axis at radius r to source k; the difference of the two as well. */
+static double source_distance(const struct profile *p, int k, double r)
+{
+    return sqrt(r * r + p->z[k] * p->z[k]);
+}
+
+static double source_gap(const struct profile *p, double d0, double d1)
+{
+    return (p->z[1] - p->z[0]) * (p->z[1] + p->z[0]) / (d0 + d1);
+}
+
+double profile_rd(const struct profile *p, double r)
+{
+    /* Sources at z = 0 (normalized diffusion) diverge as 1 / r at the exit point; a floor far inside
+     * the first mean free path keeps R finite without changing any integral measurably. */
+    double floor_mm = 1e-6 / p->sigma_t_prime, d[2], sum = 0.0;
+    for (int k = 0; k < 2; k++) {
+        d[k] = fmax(source_distance(p, k, r), floor_mm);
+        sum += p->b[k] * exp(-p->sigma[k] * d[k]) * (1.0 + p->sigma[k] * d[k]) / (d[k] * d[k] * d[k]);
+    }
+    if (paired(p))
+        return sum + p->a[0] * falloff_difference(p->sigma[0], d[0], d[1], source_gap(p, d[0], d[1]));
+    for (int k = 0; k < 2; k++)
+        sum += p->a[k] * exp(-p->sigma[k] * d[k]) / d[k];
+    return sum;
+}
+
+double profile_tail(const struct profile *p, double t)
+{
+    double d[2], sum = 0.0;
+    for (int k = 0; k < 2; k++) {
+        d[k] = source_distance(p, k, t);
+        if (p->b[k] != 0.0)
+            sum += p->b[k] * exp(-p->sigma[k] * d[k]) / d[k];
+    }
+    if (paired(p)) {
+        /* (e^(-s d0) - e^(-s d1)) / s, finite at s = 0 (sigma_a = 0). */
+        double gap = source_gap(p, d[0], d[1]);
+        sum += p->a[0] * exp(-p->sigma[0] * d[0]) * gap * fraction(p->sigma[0] * gap);
+    } else {
+        for (int k = 0; k < 2; k++)
+            if (p->a[k] != 0.0)
+                sum += p->a[k] * exp(-p->sigma[k] * d[k]) / p->sigma[k];
+    }
+    return 2.0 * PI * sum;
+}
+
+double profile_total(const struct profile *p)
+{
+    return profile_tail(p, 0.0);
+}
+
+double profile_disc_offset(const struct profile *p, double radius, double offset)
+{
+    /* T(inner) - T(outer) term by term, each written so that it does not cancel when the disc is
+     * narrow: with delta = outer - inner, a fluence term gives a e^(-s inner) delta fraction(s delta)
+     * and a flux term b times falloff_difference. */
+    double sum = 0.0;
+    for (int k = 0; k < 2; k++) {
+        double inner = source_distance(p, k, offset), outer = sqrt(inner * inner + radius * radius);
+        double delta = outer > 0.0 ? radius * radius / (inner + outer) : 0.0, s = p->sigma[k];
+        if (p->b[k] != 0.0)
+            sum += p->b[k] * falloff_difference(s, inner, outer, delta);
+        if (!paired(p) || radius <= p->z[1])
+            sum += p->a[k] * exp(-s * inner) * delta * fraction(s * delta);
+    }
+    /* A wide disc's paired fluence terms would cancel against each other; their tails do not. */
+    if (paired(p) && radius > p->z[1]) {
+        struct profile fluence = *p;
+        fluence.b[0] = fluence.b[1] = 0.0;
+        sum += (profile_tail(&fluence, fabs(offset)) - profile_tail(&fluence, hypot(radius, offset))) / (2.0 * PI);
+    }
+    return 2.0 * PI * sum;
+}
+
+double profile_disc(const struct profile *p, double radius)
+{
+    return profile_disc_offset(p, radius, 0.0);
+}
+
+double profile_decay_rate(const struct profile *p)
+{
+    return fmin(p->sigma[0], p->sigma[1]);
+}
+
+/* The profile is integrated on a log-spaced radius grid: its scale runs from z_r (1e-5 mm for dense
+ * media) to r_max (metres for sigma_a = 0), so a linear grid cannot resolve both ends. */
+#define GRID 2048
+
+struct radial_cdf {
+    double r[GRID + 1];
+    double cdf[GRID + 1];   /* integral of 2 pi r R from 0 to r[i] */
+};
+
+/* Area density to tabulate: one channel's R, or the mixture of three. */
+struct density {
+    const struct profile *p;
+    int channels;
+    double scale[3];   /* each channel's factor: 1, or 1 / (3 R_trunc,c) for the mixture */
+};
+
+static double density_at(const struct density *m, double r)
+{
+    double sum = 0.0;
+    for (int c = 0; c < m->channels; c++)
+        sum += m->scale[c] * profile_rd(&m->p[c], r);
+    return sum;
+}
+
+static double density_disc(const struct density *m, double r)
+{
+    double sum = 0.0;
+    for (int c = 0; c < m->channels; c++)
+        sum += m->scale[c] * profile_disc(&m->p[c], r);
+    return sum;
+}
+
+static void build_cdf(const struct density *m, double r_max, struct radial_cdf *t)
+{
+    double mfp = 1.0 / m->p[0].sigma_t_prime;
+    for (int c = 1; c < m->channels; c++)
+        mfp = fmin(mfp, 1.0 / m->p[c].sigma_t_prime);
+    double r_lo = fmin(mfp * 1e-3, r_max * 1e-6);
+    double ratio = log(r_max / r_lo) / (GRID - 1);
+    t->r[0] = 0.0;
+    t->r[1] = r_lo;
+    t->cdf[0] = 0.0;
+    /* The disc below r_lo in closed form: normalized diffusion's R is not flat there. */
+    t->cdf[1] = density_disc(m, r_lo);
+    double prev_f = 2.0 * PI * r_lo * density_at(m, r_lo);
+    for (int i = 2; i <= GRID; i++) {
+        t->r[i] = r_lo * exp(ratio * (i - 1));
+        double f = 2.0 * PI * t->r[i] * density_at(m, t->r[i]);
+        t->cdf[i] = t->cdf[i - 1] + 0.5 * (f + prev_f) * (t->r[i] - t->r[i - 1]);
+        prev_f = f;
+    }
+}
+
+/* The grid interval [lo, lo + 1] of an increasing table v[0..GRID] that holds x. */
+static int bracket(const double *v, double x)
+{
+    int lo = 0, hi = GRID;
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (v[mid] < x)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+static double invert_cdf(const struct radial_cdf *t, double target)
+{
+    int lo = bracket(t->cdf, target), hi = lo + 1;
+    double span = t->cdf[hi] - t->cdf[lo];
+    double f = span > 0.0 ? (target - t->cdf[lo]) / span : 0.0;
+    return t->r[lo] + f * (t->r[hi] - t->r[lo]);
+}
+
+/* The tabulated integral from 0 to r (linear between grid points). */
+static double cdf_at(const struct radial_cdf *t, double r)
+{
+    if (r <= 0.0)
+        return 0.0;
+    int lo = bracket(t->r, r), hi = lo + 1;
+    double f = fmin((r - t->r[lo]) / (t->r[hi] - t->r[lo]), 1.0);
+    return t->cdf[lo] + f * (t->cdf[hi] - t->cdf[lo]);
+}
+
+/* n radii stratified over the table's integral between r_min and its end. The table only places
+ * them; the callers weight them with the closed form, so a sampled annulus and the closed-form disc
+ * inside it add up to the plane integral without the table's quadrature error. */
+static void stratify(const struct radial_cdf *t, double r_min, int n, double *radii)
+{
+    double lo = cdf_at(t, r_min), span = t->cdf[GRID] - lo;
+    for (int j = 0; j < n; j++)
+        radii[j] = invert_cdf(t, lo + span * (j + 0.5) / n);
+}
+
+double profile_sample_radii(const struct profile *p, double r_min, double r_max, int n, double *radii,
+                            double *weights)
+{
+    static _Thread_local struct radial_cdf table;
+    struct density m = {p, 1, {1.0}};
+    build_cdf(&m, r_max, &table);
+    stratify(&table, r_min, n, radii);
+    double span = profile_disc(p, r_max) - profile_disc(p, r_min);
+    for (int j = 0; j < n; j++)
+        weights[j] = span / profile_rd(p, radii[j]);
+    return span;
+}
+
+void profile_mixture_radii(const struct profile p[3], double r_min, double r_max, int n, double *radii,
+                           double *weights)
+{
+    static _Thread_local struct radial_cdf table;
+    struct density m = {p, 3, {0}};
+    double span = 0.0;
+    for (int c = 0; c < 3; c++) {
+        double total = profile_disc(&p[c], r_max);
+        m.scale[c] = 1.0 / (3.0 * total);
+        span += m.scale[c] * (total - profile_disc(&p[c], r_min));
+    }
+    build_cdf(&m, r_max, &table);
+    stratify(&table, r_min, n, radii);
+    for (int j = 0; j < n; j++)
+        weights[j] = span / (n * density_at(&m, radii[j]));
+}
