@@ -103,11 +103,12 @@ static void check_diffuse_limit(lucent_renderer *r, double scale_mm, const char 
     int as_asked = sampling ? stats.proxy_triangles > 0
                             : strstr(stats.modelled, "\"subsurface\":\"diffuse limit") != NULL;
     double tolerance = sampling && strcmp(sampling, "shared") == 0 ? LIMIT_SHARED_TOL : LIMIT_EXACT_TOL;
+    m.profile = test_reported_profile(&stats);
     for (int c = 0; c < 3; c++) {
         double want = expected_radiance(&m, c, 1.0), rel = fabs(got[c] - want) / want;
         test_check(rel < tolerance && as_asked,
-                   "sphere at %g mm/unit, %-11s ch%d: centre %.6g, diffuse limit %.6g, rel.err %.2e (tol %.0e)%s",
-                   scale_mm, sampling ? sampling : "auto", c, got[c], want, rel, tolerance,
+                   "sphere at %g mm/unit, %-11s ch%d: centre %.6g, diffuse limit %.6g (%s), rel.err %.2e (tol %.0e)%s",
+                   scale_mm, sampling ? sampling : "auto", c, got[c], want, lucent_profile_name(m.profile), rel, tolerance,
                    sampling ? "" : as_asked ? ", auto chose the diffuse limit" : ", auto did NOT choose the diffuse limit");
     }
     lucent_image_free(&img);

@@ -303,7 +303,8 @@ static int is_default_scene(const lucent_scene *s)
          s->mesh.triangles == 0 && s->mesh.file[0] == '\0' && s->scale_mm == 0.0;
     ok = ok && strcmp(s->material.preset, "marble") == 0 && s->material.eta == 1.5 &&
          memcmp(s->material.sigma_a, marble.sigma_a, sizeof marble.sigma_a) == 0 &&
-         memcmp(s->material.sigma_s_prime, marble.sigma_s_prime, sizeof marble.sigma_s_prime) == 0;
+         memcmp(s->material.sigma_s_prime, marble.sigma_s_prime, sizeof marble.sigma_s_prime) == 0 &&
+         s->material.g == 0.0 && s->material.profile == LUCENT_PROFILE_DEFAULT;
     ok = ok && s->light_count == 1 && l->type == LUCENT_LIGHT_DIRECTIONAL &&
          near(l->direction[0], d, 1e-15) && near(l->direction[1], d, 1e-15) &&
          near(l->direction[2], d, 1e-15) && l->color[0] == 1 && l->color[1] == 1 &&
@@ -386,8 +387,9 @@ static void test_values(void)
           "camera.direction: framed automatically (given 0), normalized");
     check(parse("{\"material\": {\"preset\": \"marble\", \"profile\": \"BURLEY\"}}", &s) &&
               s.material.profile == LUCENT_PROFILE_BURLEY && strcmp(s.material.preset, "marble") == 0 &&
-              parse("{\"material\": {\"preset\": \"marble\"}}", &s) && s.material.profile == LUCENT_PROFILE_DIPOLE,
-          "material.profile with a preset; a material without one is the classic dipole");
+              parse("{\"material\": {\"preset\": \"marble\"}}", &s) && s.material.profile == LUCENT_PROFILE_DEFAULT &&
+              strcmp(lucent_profile_name(s.material.profile), "dipole") == 0,
+          "material.profile with a preset; without one DEFAULT (the dipole, or method auto's choice)");
 }
 
 /* Total diffuse reflectance of the dipole (research notes §1.3), used to check the transcription

@@ -2,6 +2,7 @@
  * scene) end the run at once with a message, since every later check would be meaningless. */
 #include "test_support.h"
 #include "frame_plan.h"
+#include "profile.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -32,7 +33,10 @@ int test_finish(void)
 
 void test_die(const char *what, const lucent_error *err)
 {
-    fprintf(stderr, "FAIL %s: [%s] %s: %s\n", what, lucent_status_name(err->status), err->field, err->message);
+    if (err)
+        fprintf(stderr, "FAIL %s: [%s] %s: %s\n", what, lucent_status_name(err->status), err->field, err->message);
+    else
+        fprintf(stderr, "FAIL %s\n", what);
     printf("%d passed, %d failed\n", test_passed, test_failed + 1);
     exit(1);
 }
@@ -54,14 +58,47 @@ lucent_renderer *test_renderer(void)
     return r;
 }
 
-void test_render(lucent_renderer *r, const char *json, lucent_image *out, lucent_stats *stats)
+/* profile < 0: as parsed. */
+static void render_json(lucent_renderer *r, const char *json, int profile, lucent_image *out, lucent_stats *stats)
 {
     lucent_scene scene;
     lucent_error err = {0};
     if (lucent_scene_parse(json, strlen(json), 1, &scene, &err) != LUCENT_OK)
         test_die("scene", &err);
+    if (profile >= 0)
+        scene.material.profile = (lucent_profile)profile;
     if (lucent_render(r, &scene, out, stats, &err) != LUCENT_OK)
         test_die("render", &err);
+}
+
+void test_render(lucent_renderer *r, const char *json, lucent_image *out, lucent_stats *stats)
+{
+    render_json(r, json, -1, out, stats);
+}
+
+void test_render_profile(lucent_renderer *r, const char *json, lucent_profile profile, lucent_image *out,
+                         lucent_stats *stats)
+{
+    render_json(r, json, (int)profile, out, stats);
+}
+
+lucent_profile test_reported_profile(const lucent_stats *stats)
+{
+    for (int p = LUCENT_PROFILE_DIPOLE; p < LUCENT_PROFILE_DEFAULT; p++) {
+        char key[64];
+        snprintf(key, sizeof key, "\"profile\":\"%s\"", lucent_profile_name((lucent_profile)p));
+        if (strstr(stats->modelled, key))
+            return (lucent_profile)p;
+    }
+    test_die("modelled names no profile", NULL);
+    return LUCENT_PROFILE_DEFAULT;
+}
+
+double test_profile_total(const lucent_material *m, lucent_profile p, int c)
+{
+    struct profile d;
+    profile_init(&d, p, m->sigma_a[c], m->sigma_s_prime[c], m->g, m->eta);
+    return profile_total(&d);
 }
 
 void test_write_obj(char *path, size_t cap, const char *name, const char *text)

@@ -19,7 +19,8 @@ int test_check(int ok, const char *fmt, ...)
 /* Releases the shared device, prints the closing line and returns the process exit code. */
 int test_finish(void);
 
-/* Prints the failure, the closing line with it counted, and ends the run (set-up that cannot go on). */
+/* Prints the failure (err may be NULL), the closing line with it counted, and ends the run (set-up that
+ * cannot go on). */
 void test_die(const char *what, const lucent_error *err);
 
 /* A scene with its mesh loaded and its camera and scale resolved, for the CPU integrators' own tests. */
@@ -34,6 +35,13 @@ void test_fixture_open(struct test_fixture *f, const char *json);
 
 /* Parses json (files allowed) and renders it; aborts the test run on any error. */
 void test_render(lucent_renderer *r, const char *json, lucent_image *out, lucent_stats *stats);
+/* The same with material.profile set to `profile` after parsing (the JSON may hold a material of its own). */
+void test_render_profile(lucent_renderer *r, const char *json, lucent_profile profile, lucent_image *out,
+                         lucent_stats *stats);
+/* The profile a render reports it integrated ("profile" in stats->modelled); aborts when it says none. */
+lucent_profile test_reported_profile(const lucent_stats *stats);
+/* Channel c's total diffuse reflectance under profile p: what a plane lit head-on reflects. */
+double test_profile_total(const lucent_material *m, lucent_profile p, int c);
 lucent_renderer *test_renderer(void);
 
 /* Writes text as /tmp/lucent-NAME-PID.obj into path; aborts the run on failure. */

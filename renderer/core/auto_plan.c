@@ -57,11 +57,25 @@ lucent_status auto_plan_choose(const lucent_scene *scene, const struct lucent_me
     *s = *scene;
     double radius = mesh->radius * FRAME_FIT_MARGIN;
     out->object_pixels = object_pixels(scene, &cam, radius);
+    /* Where the front image holds all the light there is to diffuse, one view integrates it as well as
+     * five (measured: better, with the samples the side views would cost). */
+    double hidden[LUCENT_MAX_LIGHTS], entering[LUCENT_MAX_LIGHTS], hidden_sum = 0.0, entering_sum = 0.0;
+    frame_light_shares(scene, mesh, cam.forward, 0.0, hidden, entering);
+    for (int l = 0; l < scene->light_count; l++) {
+        hidden_sum += hidden[l];
+        entering_sum += entering[l];
+    }
+    out->hidden_light_share = entering_sum > 0.0 ? hidden_sum / entering_sum : 0.0;
+    int chosen = scene->material.profile == LUCENT_PROFILE_DEFAULT;
+    if (chosen)
+        s->material.profile = out->hidden_light_share <= AUTO_BURLEY_HIDDEN_SHARE ? LUCENT_PROFILE_BURLEY
+                                                                                 : LUCENT_PROFILE_DIPOLE;
+    out->profile = s->material.profile;
     double scale_mm = frame_scale_mm(scene, mesh), r_max = 2.0 * mesh->radius * scale_mm;
     double widest = 0.0, narrowest = INFINITY;
     for (int c = 0; c < 3; c++) {
         struct profile d;
-        profile_init(&d, scene->material.profile, scene->material.sigma_a[c], scene->material.sigma_s_prime[c],
+        profile_init(&d, s->material.profile, scene->material.sigma_a[c], scene->material.sigma_s_prime[c],
                      scene->material.g, scene->material.eta);
         double r = kernel_radius(&d, r_max);
         widest = fmax(widest, r);
@@ -81,25 +95,19 @@ lucent_status auto_plan_choose(const lucent_scene *scene, const struct lucent_me
     if (per_channel)
         s->samples = s->samples / 2 > AUTO_MIN_SAMPLES ? s->samples / 2 : AUTO_MIN_SAMPLES;
     s->sampling = per_channel ? LUCENT_SAMPLING_PER_CHANNEL : LUCENT_SAMPLING_SHARED;
-    /* Where the front image holds all the light there is to diffuse, one view integrates it as well as
-     * five (measured: better, with the samples the side views would cost). */
-    double hidden[LUCENT_MAX_LIGHTS], entering[LUCENT_MAX_LIGHTS], hidden_sum = 0.0, entering_sum = 0.0;
-    frame_light_shares(scene, mesh, cam.forward, 0.0, hidden, entering);
-    for (int l = 0; l < scene->light_count; l++) {
-        hidden_sum += hidden[l];
-        entering_sum += entering[l];
-    }
-    out->hidden_light_share = entering_sum > 0.0 ? hidden_sum / entering_sum : 0.0;
     int sides = out->hidden_light_share > AUTO_HIDDEN_LIGHT_SHARE;
     s->method = sides ? LUCENT_METHOD_FIVE : LUCENT_METHOD_SINGLE;
     snprintf(out->decisions, sizeof out->decisions,
              "\"object_pixels\":%.1f,\"kernel_radius_texels\":%.3g,\"kernel_spread\":%.3g,"
-             "\"hidden_light_share\":%.3g,\"views_reason\":\"%s\",\"sampling_reason\":\"%s\"",
+             "\"hidden_light_share\":%.3g,\"views_reason\":\"%s\",\"sampling_reason\":\"%s\",\"profile_reason\":\"%s\"",
              isfinite(out->object_pixels) ? out->object_pixels : -1.0, out->kernel_texels, widest / narrowest,
              out->hidden_light_share,
              sides ? "light enters surface the front view does not see" : "the front view sees where the light enters",
              out->diffuse_limit ? "diffuse limit: 95% of R_d within half a texel"
              : per_channel      ? "channel kernels differ over 3x: per channel"
-                                : "samples cover the kernel's texels, shared by the channels");
+                                : "samples cover the kernel's texels, shared by the channels",
+             !chosen                                                    ? "given"
+             : s->material.profile == LUCENT_PROFILE_BURLEY ? "light enters mostly where the camera looks: burley"
+                                                            : "much light enters behind the object: dipole");
     return LUCENT_OK;
 }

@@ -48,6 +48,8 @@ lucent_status lucent_material_preset(const char *name, lucent_material *out)
             out->sigma_s_prime[c] = p->sigma_s_prime[c];
         }
         out->eta = p->eta;
+        out->g = 0.0;
+        out->profile = LUCENT_PROFILE_DEFAULT;
         return LUCENT_OK;
     }
     return LUCENT_E_INVALID;

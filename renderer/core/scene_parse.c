@@ -76,7 +76,7 @@ static const char *const path_boundary_names[] = {
     [LUCENT_PATH_FRESNEL] = "fresnel", [LUCENT_PATH_CYCLES] = "cycles", NULL};
 static const char *const profile_names[] = {
     [LUCENT_PROFILE_DIPOLE] = "dipole", [LUCENT_PROFILE_BETTER_DIPOLE] = "better_dipole",
-    [LUCENT_PROFILE_BURLEY] = "burley", NULL};
+    [LUCENT_PROFILE_BURLEY] = "burley", [LUCENT_PROFILE_DEFAULT] = NULL};
 static const char *const fallback_names[] = {
     [LUCENT_FALLBACK_NEXT_BEST] = "next_best", [LUCENT_FALLBACK_FRONT] = "front", NULL};
 /* Fields method "auto" chooses itself; giving one with it is a conflict, not silently ignored. */
@@ -102,7 +102,7 @@ static const char *const camera_keys[] = {"position", "target", "direction", "up
 
 const char *lucent_profile_name(lucent_profile p)
 {
-    return (unsigned)p < sizeof profile_names / sizeof profile_names[0] - 1 ? profile_names[p] : "unknown";
+    return p >= LUCENT_PROFILE_DIPOLE && p < LUCENT_PROFILE_DEFAULT ? profile_names[p] : "dipole";
 }
 
 /* ---- Text for messages ---- */
@@ -532,7 +532,7 @@ static lucent_status parse_material(json_t *v, lucent_material *mat, lucent_erro
     if (st != LUCENT_OK)
         return st;
     st = json_object_get(v, "preset") ? parse_preset(v, mat, err) : parse_coefficients(v, mat, err);
-    int profile = (int)LUCENT_PROFILE_DIPOLE;
+    int profile = (int)LUCENT_PROFILE_DEFAULT;
     if (st == LUCENT_OK)
         st = get_enum(v, "material", "profile", profile_names, &profile, err);
     mat->profile = (lucent_profile)profile;

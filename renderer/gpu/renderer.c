@@ -127,6 +127,9 @@ static lucent_status check_scene(const lucent_scene *s, lucent_error *err)
                            LUCENT_MAX_SCALE_MM);
     if (!(m->g >= -LUCENT_MAX_G && m->g <= LUCENT_MAX_G))
         return lucent_fail(err, LUCENT_E_LIMIT, "material.g", "must be %g..%g", -LUCENT_MAX_G, LUCENT_MAX_G);
+    if (!(m->profile >= LUCENT_PROFILE_DIPOLE && m->profile <= LUCENT_PROFILE_DEFAULT))
+        return lucent_fail(err, LUCENT_E_LIMIT, "material.profile", "must be one of lucent_profile's values (got %d)",
+                           (int)m->profile);
     if (s->light_count < 1 || s->light_count > LUCENT_MAX_LIGHTS)
         return lucent_fail(err, LUCENT_E_LIMIT, "lights", "must hold 1..%d lights", LUCENT_MAX_LIGHTS);
     for (int i = 0; i < s->light_count; i++) {

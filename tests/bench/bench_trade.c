@@ -211,9 +211,9 @@ static void record_frame(const lucent_stats *st, double *t, int frames, int f)
         t[k * frames + f] = v[k];
 }
 
-/* One warm-up frame, then `frames` timed ones; the last is scored against ref. */
-static lucent_status measure(lucent_renderer *r, const lucent_scene *s, int frames, const lucent_image *ref,
-                             struct result *out, char *device, lucent_error *err)
+/* One warm-up frame, then `frames` timed ones; the last is kept in *last (with its stats) to be scored. */
+static lucent_status measure(lucent_renderer *r, const lucent_scene *s, int frames, lucent_image *last,
+                             lucent_stats *last_stats, struct result *out, char *device, lucent_error *err)
 {
     double *t = calloc((size_t)frames * T_COUNT, sizeof *t);
     if (!t)
@@ -228,9 +228,12 @@ static lucent_status measure(lucent_renderer *r, const lucent_scene *s, int fram
         if (f >= 0)
             record_frame(&stats, t, frames, f);
         memcpy(device, stats.device, sizeof stats.device);
-        if (f == frames - 1)
-            st = lucent_image_compare(&img, ref, &out->e, err);
-        lucent_image_free(&img);
+        if (f == frames - 1) {
+            *last = img;
+            *last_stats = stats;
+        } else {
+            lucent_image_free(&img);
+        }
     }
     for (int k = 0; k < T_COUNT && st == LUCENT_OK; k++)
         out->ms[k] = bench_median(t + k * frames, frames);
@@ -253,16 +256,9 @@ static void write_csv_row(FILE *csv, int index, int mode, const struct result *x
             e->interior_pixels, e->noise, e->low_frequency_rel_l2);
 }
 
-static int any_single_scattering(void)
-{
-    for (int m = 0; m < MODES; m++)
-        if (modes[m].single_scattering)
-            return 1;
-    return 0;
-}
-
+/* The reference of one case, with or without single scattering, for one diffusion profile. */
 static lucent_status render_reference(lucent_renderer *r, const struct options *o, int index, int single,
-                                      lucent_image *ref, lucent_error *err)
+                                      lucent_profile profile, lucent_image *ref, lucent_error *err)
 {
     lucent_scene s;
     lucent_stats stats;
@@ -270,38 +266,54 @@ static lucent_status render_reference(lucent_renderer *r, const struct options *
                                   single ? "\"method\":\"reference\",\"format\":\"exr\",\"single_scattering\":true"
                                          : "\"method\":\"reference\",\"format\":\"exr\"",
                                   &s, err);
+    s.material.profile = profile;
     if (st == LUCENT_OK)
         st = lucent_render(r, &s, ref, &stats, err);
     if (st != LUCENT_OK)
         return st;
     char label[128];
     case_label(index, label, sizeof label);
-    fprintf(stderr, "bench_trade: %d %s: reference%s %.0f ms\n", sizes[case_of(index).size], label,
-            single ? " with single scattering" : "", stats.ms_total);
+    fprintf(stderr, "bench_trade: %d %s: reference%s, profile %s, %.0f ms\n", sizes[case_of(index).size], label,
+            single ? " with single scattering" : "", lucent_profile_name(profile), stats.ms_total);
     return LUCENT_OK;
 }
 
-/* Renders the references of one case, then every mode; rows go to the CSV as they are measured. */
+/* Renders every mode of one case, each scored against the reference of the profile it reports it
+ * integrated (method auto chooses one), rendered when first needed; rows go to the CSV as they are
+ * measured. */
 static lucent_status run_case(lucent_renderer *r, const struct options *o, int index, struct result *row,
                               struct outputs *out, lucent_error *err)
 {
-    lucent_image ref[2] = {{0}, {0}};
+    lucent_image ref[2][LUCENT_PROFILE_DEFAULT] = {{{0}}};
     lucent_scene s;
-    lucent_status st = render_reference(r, o, index, 0, &ref[0], err);
-    if (st == LUCENT_OK && any_single_scattering())
-        st = render_reference(r, o, index, 1, &ref[1], err);
+    lucent_status st = LUCENT_OK;
     for (int m = 0; m < MODES && st == LUCENT_OK; m++) {
         if (!(o->modes & 1u << m))
             continue;
+        lucent_image last = {0};
+        lucent_stats stats;
         st = make_scene(o, case_of(index), modes[m].json, &s, err);
         if (st == LUCENT_OK)
-            st = measure(r, &s, o->frames, &ref[modes[m].single_scattering], &row[m], out->device, err);
+            st = measure(r, &s, o->frames, &last, &stats, &row[m], out->device, err);
+        lucent_profile p = LUCENT_PROFILE_DIPOLE;
+        for (int k = LUCENT_PROFILE_DIPOLE; st == LUCENT_OK && k < LUCENT_PROFILE_DEFAULT; k++) {
+            char key[64];
+            snprintf(key, sizeof key, "\"profile\":\"%s\"", lucent_profile_name((lucent_profile)k));
+            if (strstr(stats.modelled, key))
+                p = (lucent_profile)k;
+        }
+        lucent_image *reference = &ref[modes[m].single_scattering][p];
+        if (st == LUCENT_OK && !reference->rgba)
+            st = render_reference(r, o, index, modes[m].single_scattering, p, reference, err);
+        if (st == LUCENT_OK)
+            st = lucent_image_compare(&last, reference, &row[m].e, err);
+        lucent_image_free(&last);
         if (st == LUCENT_OK)
             write_csv_row(out->csv, index, m, &row[m]);
     }
     fflush(out->csv);
-    lucent_image_free(&ref[0]);
-    lucent_image_free(&ref[1]);
+    for (int k = 0; k < 2 * LUCENT_PROFILE_DEFAULT; k++)
+        lucent_image_free(&ref[k / LUCENT_PROFILE_DEFAULT][k % LUCENT_PROFILE_DEFAULT]);
     return st;
 }
 
