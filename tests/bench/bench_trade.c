@@ -1,11 +1,13 @@
 /* bench_trade.c - the measured speed/accuracy trade: every fast mode timed warm and scored against method
- * "reference" over 5 meshes x 3 lights x 4 materials x 2 sizes; writes CSV, Markdown and a plot table. */
+ * "reference" over 6 meshes x 4 lights x 4 materials x 2 sizes, and with --path against method "path" too
+ * (every profile's reference as well); writes CSV, Markdown and plot tables. */
 #include "bench_host.h"
 #include "bench_median.h"
 #include "bench_scene.h"
 #include "flat_cube.h"
 #include "lucent.h"
 
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,12 +15,13 @@
 
 #define N(a) (sizeof(a) / sizeof((a)[0]))
 
-/* A mode is a scene fragment added to the case; one line here adds it everywhere. Modes with single
- * scattering are scored against a reference that has it too. */
+/* A mode is a scene fragment added to the case (and a profile, DEFAULT: the scene's); one line here adds
+ * it everywhere. Modes with single scattering are scored against a reference that has it too. */
 struct mode {
     const char *name;
     const char *json;
     int single_scattering;
+    lucent_profile profile;
 };
 
 /* The cube is seen from above its front-right corner, so the camera sees its +X, +Y and +Z faces and
@@ -45,20 +48,22 @@ static const struct light_case lights[] = {[LIGHT_FRONT] = {"front", "[0,0,-1]"}
 static const char *const materials[] = {"marble", "skin1", "skimmilk", "ketchup"};
 static const int sizes[] = {256, 512};
 static const struct mode modes[] = {
-    {"single", "\"method\":\"single\"", 0},
-    {"five", "\"method\":\"five\"", 0},
-    {"five per_channel", "\"method\":\"five\",\"sampling\":\"per_channel\"", 0},
-    {"five samples 4", "\"method\":\"five\",\"samples\":4", 0},
-    {"five samples 8", "\"method\":\"five\",\"samples\":8", 0},
-    {"five samples 32", "\"method\":\"five\",\"samples\":32", 0},
-    {"five samples 64", "\"method\":\"five\",\"samples\":64", 0},
-    {"five projection 128", "\"method\":\"five\",\"projection_size\":128", 0},
-    {"five projection 256", "\"method\":\"five\",\"projection_size\":256", 0},
-    {"five projection 1024", "\"method\":\"five\",\"projection_size\":1024", 0},
-    {"single samples 64", "\"method\":\"single\",\"samples\":64", 0},
-    {"five fallback front", "\"method\":\"five\",\"fallback\":\"front\"", 0},
-    {"auto", "\"method\":\"auto\"", 0},
-    {"five single scattering", "\"method\":\"five\",\"single_scattering\":true", 1},
+    {"single", "\"method\":\"single\"", 0, LUCENT_PROFILE_DEFAULT},
+    {"five", "\"method\":\"five\"", 0, LUCENT_PROFILE_DEFAULT},
+    {"five per_channel", "\"method\":\"five\",\"sampling\":\"per_channel\"", 0, LUCENT_PROFILE_DEFAULT},
+    {"five samples 4", "\"method\":\"five\",\"samples\":4", 0, LUCENT_PROFILE_DEFAULT},
+    {"five samples 8", "\"method\":\"five\",\"samples\":8", 0, LUCENT_PROFILE_DEFAULT},
+    {"five samples 32", "\"method\":\"five\",\"samples\":32", 0, LUCENT_PROFILE_DEFAULT},
+    {"five samples 64", "\"method\":\"five\",\"samples\":64", 0, LUCENT_PROFILE_DEFAULT},
+    {"five projection 128", "\"method\":\"five\",\"projection_size\":128", 0, LUCENT_PROFILE_DEFAULT},
+    {"five projection 256", "\"method\":\"five\",\"projection_size\":256", 0, LUCENT_PROFILE_DEFAULT},
+    {"five projection 1024", "\"method\":\"five\",\"projection_size\":1024", 0, LUCENT_PROFILE_DEFAULT},
+    {"single samples 64", "\"method\":\"single\",\"samples\":64", 0, LUCENT_PROFILE_DEFAULT},
+    {"five fallback front", "\"method\":\"five\",\"fallback\":\"front\"", 0, LUCENT_PROFILE_DEFAULT},
+    {"auto", "\"method\":\"auto\"", 0, LUCENT_PROFILE_DEFAULT},
+    {"five single scattering", "\"method\":\"five\",\"single_scattering\":true", 1, LUCENT_PROFILE_DEFAULT},
+    {"five better_dipole", "\"method\":\"five\"", 0, LUCENT_PROFILE_BETTER_DIPOLE},
+    {"five burley", "\"method\":\"five\"", 0, LUCENT_PROFILE_BURLEY},
 };
 
 enum { MODES = (int)N(modes), CASES_PER_SIZE = (int)(N(meshes) * N(lights) * N(materials)) };
@@ -66,11 +71,12 @@ enum { T_TOTAL, T_SHADOW, T_PROJECTION, T_GBUFFER, T_SCATTER, T_READBACK, T_COUN
 
 struct options {
     const char *prefix;
+    int path_walks;                     /* --path: walks a pixel and channel of method "path"; 0: not rendered */
     const char *backend;                /* --backend; NULL: $LUCENT_BACKEND, else auto */
     const char *mesh_file[MESH_COUNT];  /* the meshes given as files: the bunny, and the cube and slab written here */
     char cube_path[4096], slab_path[4096];
     int frames, size_count;
-    unsigned lights, modes;   /* selected (--lights, --modes): bit i for lights[i] and modes[i] */
+    unsigned meshes, lights, modes;   /* selected (--meshes, --lights, --modes): bit i for meshes[i], ... */
 };
 
 struct case_id {
@@ -80,6 +86,13 @@ struct case_id {
 struct result {
     double ms[T_COUNT];  /* medians over the timed frames */
     lucent_image_error e;
+    lucent_image_error path;  /* against method "path" (with --path) */
+};
+
+/* With --path, per case: the walks' own noise and time, and every profile's reference against them. */
+struct path_case {
+    double noise, ms;
+    lucent_image_error reference[LUCENT_PROFILE_DEFAULT];
 };
 
 /* One mode at one size, summarized over every case (medians). */
@@ -92,6 +105,7 @@ enum { SUMMARY_MEDIANS = 6 };
 
 struct outputs {
     FILE *csv, *md, *tsv;
+    FILE *path_csv, *path_tsv;   /* with --path */
     char device[sizeof(((lucent_stats *)0)->device)];   /* as the renders report it */
     const char *backend;
 };
@@ -121,14 +135,17 @@ static void case_label(int index, char *buf, size_t cap)
 
 static int usage(void)
 {
-    fprintf(stderr, "usage: bench_trade [--quick] [--frames F] [--lights L,...] [--modes M,...] [--backend B]\n"
-                    "                   BUNNY.obj OUT_PREFIX\n"
+    fprintf(stderr, "usage: bench_trade [--quick] [--frames F] [--meshes M,...] [--lights L,...] [--modes M,...]\n"
+                    "                   [--backend B] [--path WALKS] BUNNY.obj OUT_PREFIX\n"
                     "  writes OUT_PREFIX.csv, OUT_PREFIX.md, OUT_PREFIX_summary.tsv (for plot_trade.sh) and\n"
                     "  OUT_PREFIX_cube.obj and OUT_PREFIX_slab.obj (the meshes it writes and renders);\n"
                     "  --quick: 256x256 only (default 256 and 512); F: timed warm frames per mode (default 5);\n"
-                    "  --lights, --modes: only these (comma-separated names as in the report, default all;\n"
+                    "  --meshes, --lights, --modes: only these (comma-separated names as in the report, default all;\n"
                     "  the paper's claim and the cube table need the side light and their modes);\n"
-                    "  B: vulkan, gl or auto (bench_table2 compares backends within one run)\n");
+                    "  B: vulkan, gl or auto (bench_table2 compares backends within one run);\n"
+                    "  --path: also render method path (boundary fresnel, WALKS walks a pixel and channel) per\n"
+                    "  case and score every mode and every profile's reference against it: OUT_PREFIX_path.csv,\n"
+                    "  a section of OUT_PREFIX.md and OUT_PREFIX_path_summary.tsv (plot_trade.sh ... path)\n");
     return 2;
 }
 
@@ -151,6 +168,11 @@ static unsigned parse_names(const char *list, const char *(*name_of)(int), int c
     }
 }
 
+static const char *mesh_name(int i)
+{
+    return meshes[i].name;
+}
+
 static const char *light_name(int i)
 {
     return lights[i].name;
@@ -163,7 +185,8 @@ static const char *mode_name(int i)
 
 static int parse_options(int argc, char **argv, struct options *o)
 {
-    *o = (struct options){.frames = 5, .size_count = (int)N(sizes), .lights = (1u << N(lights)) - 1,
+    *o = (struct options){.frames = 5, .size_count = (int)N(sizes), .meshes = (1u << N(meshes)) - 1,
+                          .lights = (1u << N(lights)) - 1,
                           .modes = (1u << MODES) - 1};
     int positional = 0;
     for (int i = 1; i < argc; i++) {
@@ -175,12 +198,21 @@ static int parse_options(int argc, char **argv, struct options *o)
             if (*end || f < 1 || f > 1000)
                 return -1;
             o->frames = (int)f;
+        } else if (strcmp(argv[i], "--meshes") == 0 && i + 1 < argc) {
+            if (!(o->meshes = parse_names(argv[++i], mesh_name, (int)N(meshes))))
+                return -1;
         } else if (strcmp(argv[i], "--lights") == 0 && i + 1 < argc) {
             if (!(o->lights = parse_names(argv[++i], light_name, (int)N(lights))))
                 return -1;
         } else if (strcmp(argv[i], "--backend") == 0 && i + 1 < argc) {
             if (!lucent_backend_valid(o->backend = argv[++i]))
                 return -1;
+        } else if (strcmp(argv[i], "--path") == 0 && i + 1 < argc) {
+            char *end;
+            long w = strtol(argv[++i], &end, 10);
+            if (*end || w < 1 || w > (long)LUCENT_MAX_PATH_SAMPLES)
+                return -1;
+            o->path_walks = (int)w;
         } else if (strcmp(argv[i], "--modes") == 0 && i + 1 < argc) {
             if (!(o->modes = parse_names(argv[++i], mode_name, MODES)))
                 return -1;
@@ -278,42 +310,83 @@ static lucent_status render_reference(lucent_renderer *r, const struct options *
     return LUCENT_OK;
 }
 
-/* Renders every mode of one case, each scored against the reference of the profile it reports it
- * integrated (method auto chooses one), rendered when first needed; rows go to the CSV as they are
- * measured. */
-static lucent_status run_case(lucent_renderer *r, const struct options *o, int index, struct result *row,
-                              struct outputs *out, lucent_error *err)
+/* The profile a render reports it integrated ("profile" in modelled; the dipole when none). */
+static lucent_profile reported_profile(const lucent_stats *stats)
 {
-    lucent_image ref[2][LUCENT_PROFILE_DEFAULT] = {{{0}}};
+    lucent_profile p = LUCENT_PROFILE_DIPOLE;
+    for (int k = LUCENT_PROFILE_DIPOLE; k < LUCENT_PROFILE_DEFAULT; k++) {
+        char key[64];
+        snprintf(key, sizeof key, "\"profile\":\"%s\"", lucent_profile_name((lucent_profile)k));
+        if (strstr(stats->modelled, key))
+            p = (lucent_profile)k;
+    }
+    return p;
+}
+
+/* Method "path" for one case (boundary fresnel), with its relative standard error and time. */
+static lucent_status render_path(lucent_renderer *r, const struct options *o, int index, lucent_image *img,
+                                 struct path_case *pc, lucent_error *err)
+{
+    char fragment[128];
+    snprintf(fragment, sizeof fragment, "\"method\":\"path\",\"path\":{\"samples\":%d},\"format\":\"exr\"",
+             o->path_walks);
     lucent_scene s;
-    lucent_status st = LUCENT_OK;
+    lucent_stats stats;
+    lucent_status st = make_scene(o, case_of(index), fragment, &s, err);
+    if (st == LUCENT_OK)
+        st = lucent_render(r, &s, img, &stats, err);
+    if (st != LUCENT_OK)
+        return st;
+    const char *at = strstr(stats.modelled, "\"rel_std_error\":");
+    pc->noise = at ? atof(at + strlen("\"rel_std_error\":")) : NAN;
+    pc->ms = stats.ms_total;
+    char label[128];
+    case_label(index, label, sizeof label);
+    fprintf(stderr, "bench_trade: %d %s: path, %d walks, %.0f ms, relative standard error %.3g\n",
+            sizes[case_of(index).size], label, o->path_walks, pc->ms, pc->noise);
+    return LUCENT_OK;
+}
+
+/* Renders every mode of one case, each scored against the reference of the profile it reports it
+ * integrated (method auto chooses one), rendered when first needed, and with --path against the walks
+ * too, as is every profile's reference; rows go to the CSV as they are measured. */
+static lucent_status run_case(lucent_renderer *r, const struct options *o, int index, struct result *row,
+                              struct path_case *pc, struct outputs *out, lucent_error *err)
+{
+    lucent_image ref[2][LUCENT_PROFILE_DEFAULT] = {{{0}}}, path = {0};
+    lucent_scene s;
+    lucent_status st = o->path_walks ? render_path(r, o, index, &path, pc, err) : LUCENT_OK;
     for (int m = 0; m < MODES && st == LUCENT_OK; m++) {
         if (!(o->modes & 1u << m))
             continue;
         lucent_image last = {0};
         lucent_stats stats;
         st = make_scene(o, case_of(index), modes[m].json, &s, err);
+        if (modes[m].profile != LUCENT_PROFILE_DEFAULT)
+            s.material.profile = modes[m].profile;
         if (st == LUCENT_OK)
             st = measure(r, &s, o->frames, &last, &stats, &row[m], out->device, err);
-        lucent_profile p = LUCENT_PROFILE_DIPOLE;
-        for (int k = LUCENT_PROFILE_DIPOLE; st == LUCENT_OK && k < LUCENT_PROFILE_DEFAULT; k++) {
-            char key[64];
-            snprintf(key, sizeof key, "\"profile\":\"%s\"", lucent_profile_name((lucent_profile)k));
-            if (strstr(stats.modelled, key))
-                p = (lucent_profile)k;
-        }
-        lucent_image *reference = &ref[modes[m].single_scattering][p];
+        lucent_image *reference = st == LUCENT_OK ? &ref[modes[m].single_scattering][reported_profile(&stats)] : NULL;
         if (st == LUCENT_OK && !reference->rgba)
-            st = render_reference(r, o, index, modes[m].single_scattering, p, reference, err);
+            st = render_reference(r, o, index, modes[m].single_scattering, reported_profile(&stats), reference, err);
         if (st == LUCENT_OK)
             st = lucent_image_compare(&last, reference, &row[m].e, err);
+        if (st == LUCENT_OK && o->path_walks)
+            st = lucent_image_compare(&last, &path, &row[m].path, err);
         lucent_image_free(&last);
         if (st == LUCENT_OK)
             write_csv_row(out->csv, index, m, &row[m]);
     }
+    for (int p = 0; p < LUCENT_PROFILE_DEFAULT && o->path_walks && st == LUCENT_OK; p++) {
+        if (!ref[0][p].rgba)
+            st = render_reference(r, o, index, 0, (lucent_profile)p, &ref[0][p], err);
+        if (st == LUCENT_OK)
+            st = lucent_image_compare(&ref[0][p], &path, &pc->reference[p], err);
+    }
     fflush(out->csv);
     for (int k = 0; k < 2 * LUCENT_PROFILE_DEFAULT; k++)
         lucent_image_free(&ref[k / LUCENT_PROFILE_DEFAULT][k % LUCENT_PROFILE_DEFAULT]);
+    lucent_image_free(&path);
     return st;
 }
 
@@ -325,7 +398,7 @@ static int worse(const struct result *res, int a, int b, int mode, int band)
 
 static int case_selected(const struct options *o, int index)
 {
-    return (o->lights >> case_of(index).light) & 1u;
+    return (o->lights >> case_of(index).light) & (o->meshes >> case_of(index).mesh) & 1u;
 }
 
 static int cases_selected(const struct options *o)
@@ -462,12 +535,104 @@ static int modes_selected(const struct options *o, const char *a, const char *b)
     return ((o->modes >> mode_named(a)) & 1u) && ((o->modes >> mode_named(b)) & 1u);
 }
 
-static void write_report(const struct options *o, const struct result *res, const struct outputs *out,
-                         double *scratch)
+/* The error left once the walks' own noise is taken out: sqrt(rel_l2^2 - noise^2), 0 below it. */
+static double without_noise(double rel_l2, double noise)
+{
+    double d = rel_l2 * rel_l2 - noise * noise;
+    return d > 0.0 ? sqrt(d) : 0.0;
+}
+
+static void write_path_row(FILE *csv, int index, const char *what, const char *profile, const lucent_image_error *e,
+                           const struct path_case *pc, double ms)
+{
+    struct case_id c = case_of(index);
+    fprintf(csv, "%s,%s,%s,%d,%s,%s,%.6g,%.6g,%.6g,%.6g,%.3f\n", meshes[c.mesh].name, lights[c.light].name,
+            materials[c.material], sizes[c.size], what, profile, e->object.rel_l2,
+            without_noise(e->object.rel_l2, pc->noise), e->mean_ratio, pc->noise, ms);
+}
+
+/* One line of the table against path: medians over the selected cases of size z. what: a mode, or -1 - p
+ * for profile p's reference, or -1 - LUCENT_PROFILE_DEFAULT for the walks themselves. */
+static void write_path_line(const struct options *o, const struct result *res, const struct path_case *pcs, int z,
+                            int what, double *scratch, const struct outputs *out)
+{
+    double *ms = scratch, *l2 = ms + CASES_PER_SIZE, *clean = l2 + CASES_PER_SIZE, *ratio = clean + CASES_PER_SIZE;
+    int n = 0, first = case_index(z, 0, 0, 0);
+    for (int i = first; i < first + CASES_PER_SIZE; i++) {
+        if (!case_selected(o, i))
+            continue;
+        const struct path_case *pc = &pcs[i];
+        const lucent_image_error *e = what >= 0 ? &res[i * MODES + what].path : &pc->reference[-1 - what];
+        int walks = what == -1 - LUCENT_PROFILE_DEFAULT;
+        ms[n] = what >= 0 ? res[i * MODES + what].ms[T_TOTAL] : walks ? pc->ms : 0.0;
+        l2[n] = walks ? pc->noise : e->object.rel_l2;
+        clean[n] = walks ? 0.0 : without_noise(e->object.rel_l2, pc->noise);
+        ratio[n] = walks ? 1.0 : e->mean_ratio;
+        n++;
+    }
+    char name[64];
+    if (what >= 0)
+        snprintf(name, sizeof name, "%s", modes[what].name);
+    else if (what == -1 - LUCENT_PROFILE_DEFAULT)
+        snprintf(name, sizeof name, "path (its noise)");
+    else
+        snprintf(name, sizeof name, "reference %s", lucent_profile_name((lucent_profile)(-1 - what)));
+    int timed = what >= 0 || what == -1 - LUCENT_PROFILE_DEFAULT;   /* the references are not timed here */
+    double median_ms = timed ? bench_median(ms, n) : 0.0, median_clean = bench_median(clean, n);
+    char ms_text[32] = "-";
+    if (timed)
+        snprintf(ms_text, sizeof ms_text, "%.1f", median_ms);
+    emit(out->md, "| %s | %s | %.4f | %.4f | %.4f |\n", name, ms_text, bench_median(l2, n), median_clean,
+         bench_median(ratio, n));
+    if (what >= 0)
+        fprintf(out->path_tsv, "%d\t%s\t%.3f\t%.6g\t%.6g\t0\n", sizes[z], name, median_ms, median_clean,
+                bench_median(l2, n));
+}
+
+/* With --path: every mode and every profile's reference against the walks, per case (CSV) and as medians. */
+static void write_path_report(const struct options *o, const struct result *res, const struct path_case *pcs,
+                              const struct outputs *out, double *scratch)
+{
+    fprintf(out->path_csv, "scene,light,material,size,what,profile,rel_l2,rel_l2_without_noise,mean_ratio,path_noise,ms\n");
+    fprintf(out->path_tsv, "size\tmode\tms\trel_l2\tband_rel_l2\tpareto\n");
+    for (int i = 0; i < o->size_count * CASES_PER_SIZE; i++) {
+        if (!case_selected(o, i))
+            continue;
+        for (int m = 0; m < MODES; m++)
+            if (o->modes & 1u << m)
+                write_path_row(out->path_csv, i, modes[m].name, "", &res[i * MODES + m].path, &pcs[i],
+                               res[i * MODES + m].ms[T_TOTAL]);
+        for (int p = 0; p < LUCENT_PROFILE_DEFAULT; p++)
+            write_path_row(out->path_csv, i, "reference", lucent_profile_name((lucent_profile)p), &pcs[i].reference[p],
+                           &pcs[i], NAN);
+    }
+    emit(out->md, "\n## Against method \"path\" (%d walks a pixel and channel, boundary fresnel)\n\n"
+                  "Medians over the same cases; \"w/o noise\" is sqrt(rel L2^2 - noise^2), the error left once the "
+                  "walks' own noise (their relative standard error) is taken out. The modes' mean ratio is their "
+                  "mean radiance over the walks'.\n", o->path_walks);
+    for (int z = 0; z < o->size_count; z++) {
+        emit(out->md, "\n### %dx%d against path\n\n| mode | median ms | median rel L2 | median w/o noise "
+                      "| median mean ratio |\n|---|---|---|---|---|\n", sizes[z], sizes[z]);
+        write_path_line(o, res, pcs, z, -1 - LUCENT_PROFILE_DEFAULT, scratch, out);
+        for (int p = 0; p < LUCENT_PROFILE_DEFAULT; p++)
+            write_path_line(o, res, pcs, z, -1 - p, scratch, out);
+        for (int m = 0; m < MODES; m++)
+            if (o->modes & 1u << m)
+                write_path_line(o, res, pcs, z, m, scratch, out);
+    }
+}
+
+static void write_report(const struct options *o, const struct result *res, const struct path_case *pcs,
+                         const struct outputs *out, double *scratch)
 {
     char names[256] = "";
+    int mesh_count = 0, light_count = 0;
     for (size_t m = 0, used = 0; m < N(meshes) && used < sizeof names; m++)
-        used += (size_t)snprintf(names + used, sizeof names - used, "%s%s", m ? ", " : "", meshes[m].name);
+        if ((o->meshes >> m) & 1u)
+            used += (size_t)snprintf(names + used, sizeof names - used, "%s%s", mesh_count++ ? ", " : "",
+                                     meshes[m].name);
+    for (size_t l = 0; l < N(lights); l++)
+        light_count += (int)((o->lights >> l) & 1u);
     char cpu[256];
     cpu_model(cpu, sizeof cpu);
     emit(out->md, "## Speed/accuracy trade against method \"reference\"\n\nCPU: %s; backend %s, device: %s.\n\n", cpu,
@@ -480,8 +645,7 @@ static void write_report(const struct options *o, const struct result *res, cons
                   "reference's); worst case; on the Pareto front of (median ms, median rel L2). The cube is "
                   "seen from above its front-right corner (+X, +Y, +Z faces), each light striking one face; "
                   "the slab (50 x 50 x 3 mm) face-on; the rim light 130 degrees from the view direction.\n",
-         cases_selected(o), (int)N(meshes), names, cases_selected(o) / (int)(N(meshes) * N(materials)), (int)N(materials),
-         o->frames);
+         cases_selected(o), mesh_count, names, light_count, (int)N(materials), o->frames);
     fprintf(out->tsv, "size\tmode\tms\trel_l2\tband_rel_l2\tpareto\n");
     for (int z = 0; z < o->size_count; z++) {
         struct summary s[MODES];
@@ -491,18 +655,20 @@ static void write_report(const struct options *o, const struct result *res, cons
         write_summary(o, res, s, z, out);
     }
     int side = (o->lights >> LIGHT_SIDE) & 1u;
-    if (side && modes_selected(o, "single", "five"))
+    if (side && modes_selected(o, "single", "five") && (o->meshes >> MESH_PROTRUSION) & (o->meshes >> MESH_BUNNY) & 1u)
         write_claim(o, res, out);
-    if (side && modes_selected(o, "five", "auto"))
+    if (side && modes_selected(o, "five", "auto") && (o->meshes >> MESH_CUBE) & 1u)
         write_cube(o, res, out);
+    if (o->path_walks)
+        write_path_report(o, res, pcs, out, scratch);
 }
 
-static int open_outputs(const char *prefix, struct outputs *out)
+static int open_outputs(const char *prefix, int with_path, struct outputs *out)
 {
-    static const char *const suffix[3] = {".csv", ".md", "_summary.tsv"};
-    FILE *f[3] = {NULL, NULL, NULL};
-    int rc = bench_open_files(prefix, suffix, f, 3);
-    out->csv = f[0], out->md = f[1], out->tsv = f[2];
+    static const char *const suffix[5] = {".csv", ".md", "_summary.tsv", "_path.csv", "_path_summary.tsv"};
+    FILE *f[5] = {NULL, NULL, NULL, NULL, NULL};
+    int rc = bench_open_files(prefix, suffix, f, with_path ? 5 : 3);
+    out->csv = f[0], out->md = f[1], out->tsv = f[2], out->path_csv = f[3], out->path_tsv = f[4];
     if (rc != 0)
         return -1;
     fprintf(out->csv, "scene,light,material,size,mode,ms,ms_shadow,ms_projection,ms_gbuffer,ms_scatter,ms_readback,"
@@ -515,15 +681,16 @@ static int open_outputs(const char *prefix, struct outputs *out)
 /* Closes every output; -1 if any failed to open or write. */
 static int close_outputs(struct outputs *out)
 {
-    FILE *f[3] = {out->csv, out->md, out->tsv};
-    return bench_close_files(f, 3);
+    FILE *f[5] = {out->csv, out->md, out->tsv, out->path_csv, out->path_tsv};
+    return bench_close_files(f, 5);
 }
 
-static int run(lucent_renderer *r, const struct options *o, struct result *res, struct outputs *out)
+static int run(lucent_renderer *r, const struct options *o, struct result *res, struct path_case *pcs,
+               struct outputs *out)
 {
     lucent_error err = {0};
     for (int i = 0; i < o->size_count * CASES_PER_SIZE; i++)
-        if (case_selected(o, i) && run_case(r, o, i, &res[i * MODES], out, &err) != LUCENT_OK) {
+        if (case_selected(o, i) && run_case(r, o, i, &res[i * MODES], &pcs[i], out, &err) != LUCENT_OK) {
             char label[128];
             case_label(i, label, sizeof label);
             fprintf(stderr, "bench_trade: %d %s: %s%s%s\n", sizes[case_of(i).size], label, err.field,
@@ -531,7 +698,7 @@ static int run(lucent_renderer *r, const struct options *o, struct result *res, 
             return -1;
         }
     double scratch[SUMMARY_MEDIANS * CASES_PER_SIZE];
-    write_report(o, res, out, scratch);
+    write_report(o, res, pcs, out, scratch);
     return 0;
 }
 
@@ -549,16 +716,17 @@ int main(int argc, char **argv)
         return 2;
     struct outputs out = {0};
     struct result *res = calloc((size_t)o.size_count * CASES_PER_SIZE * MODES, sizeof *res);
+    struct path_case *pcs = calloc((size_t)o.size_count * CASES_PER_SIZE, sizeof *pcs);
     lucent_error err = {0};
     lucent_renderer_desc desc = {.backend = o.backend, .verbose = 0};
     lucent_renderer *r = NULL;
     int rc = 1;
-    if (!res)
+    if (!res || !pcs)
         fprintf(stderr, "bench_trade: out of memory\n");
     else if (!(r = lucent_renderer_create(&desc, &err)))
         fprintf(stderr, "bench_trade: %s\n", err.message);
-    else if ((out.backend = lucent_renderer_backend(r)) && open_outputs(o.prefix, &out) == 0 &&
-             run(r, &o, res, &out) == 0)
+    else if ((out.backend = lucent_renderer_backend(r)) && open_outputs(o.prefix, o.path_walks > 0, &out) == 0 &&
+             run(r, &o, res, pcs, &out) == 0)
         rc = 0;
     if (close_outputs(&out) != 0 && rc == 0) {
         fprintf(stderr, "bench_trade: writing %s.* failed\n", o.prefix);
@@ -566,6 +734,7 @@ int main(int argc, char **argv)
     }
     lucent_renderer_destroy(r);
     free(res);
+    free(pcs);
     lucent_shutdown();
     return rc;
 }
