@@ -291,6 +291,8 @@ typedef struct lucent_stats {
     char backend[16];           /* "vulkan" or "gl" */
     char device[256];
     char modelled[2048];
+    lucent_profile profile;     /* the diffusion profile integrated (modelled's "profile"); DEFAULT for
+                                 * method path, which uses none */
 } lucent_stats;
 
 /* Renderers of one process share a Vulkan device (or an EGL display, each with its own OpenGL context) per

@@ -84,14 +84,11 @@ void test_render_profile(lucent_renderer *r, const char *json, lucent_profile pr
 
 lucent_profile test_reported_profile(const lucent_stats *stats)
 {
-    for (int p = LUCENT_PROFILE_DIPOLE; p < LUCENT_PROFILE_DEFAULT; p++) {
-        char key[64];
-        snprintf(key, sizeof key, "\"profile\":\"%s\"", lucent_profile_name((lucent_profile)p));
-        if (strstr(stats->modelled, key))
-            return (lucent_profile)p;
-    }
-    test_die("modelled names no profile", NULL);
-    return LUCENT_PROFILE_DEFAULT;
+    char key[64];
+    snprintf(key, sizeof key, "\"profile\":\"%s\"", lucent_profile_name(stats->profile));
+    if (stats->profile == LUCENT_PROFILE_DEFAULT || !strstr(stats->modelled, key))
+        test_die("the render reports no profile, or modelled does not name it", NULL);
+    return stats->profile;
 }
 
 double test_profile_total(const lucent_material *m, lucent_profile p, int c)

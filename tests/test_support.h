@@ -38,7 +38,7 @@ void test_render(lucent_renderer *r, const char *json, lucent_image *out, lucent
 /* The same with material.profile set to `profile` after parsing (the JSON may hold a material of its own). */
 void test_render_profile(lucent_renderer *r, const char *json, lucent_profile profile, lucent_image *out,
                          lucent_stats *stats);
-/* The profile a render reports it integrated ("profile" in stats->modelled); aborts when it says none. */
+/* The profile a render reports it integrated (stats->profile, named in modelled too); aborts when none. */
 lucent_profile test_reported_profile(const lucent_stats *stats);
 /* Channel c's total diffuse reflectance under profile p: what a plane lit head-on reflects. */
 double test_profile_total(const lucent_material *m, lucent_profile p, int c);

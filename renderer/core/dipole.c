@@ -71,10 +71,15 @@ void dipole_classic(struct profile *p, double sigma_a, double sigma_s_prime, dou
 
 void dipole_better(struct profile *p, double sigma_a, double sigma_s_prime, double eta)
 {
+    dipole_better_at(p, sigma_a, sigma_s_prime, fresnel_moment(eta, 1), fresnel_moment(eta, 2),
+                     1.0 / (sigma_a + sigma_s_prime));
+}
+
+void dipole_better_at(struct profile *p, double sigma_a, double sigma_s_prime, double c1, double c2, double depth)
+{
     memset(p, 0, sizeof *p);
     p->kind = LUCENT_PROFILE_BETTER_DIPOLE;
     double sigma_t = sigma_a + sigma_s_prime, alpha_prime = sigma_s_prime / sigma_t;
-    double c1 = fresnel_moment(eta, 1), c2 = fresnel_moment(eta, 2);
     double d = (2.0 * sigma_a + sigma_s_prime) / (3.0 * sigma_t * sigma_t);
     double a = (1.0 + 3.0 * c2) / (1.0 - 2.0 * c1);
     double c_phi = 0.25 * (1.0 - 2.0 * c1), c_e = 0.5 * (1.0 - 3.0 * c2);
@@ -82,8 +87,8 @@ void dipole_better(struct profile *p, double sigma_a, double sigma_s_prime, doub
     p->sigma_t_prime = sigma_t;
     /* The virtual source sits above the boundary (z_v < 0 in d'Eon's convention); the profile only
      * needs its distance, and its flux term's sign flips with z_v's. */
-    p->z[0] = 1.0 / sigma_t;
-    p->z[1] = p->z[0] + 4.0 * a * d;
+    p->z[0] = depth;
+    p->z[1] = depth + 4.0 * a * d;
     for (int k = 0; k < 2; k++) {
         p->sigma[k] = sqrt(sigma_a / d);
         p->b[k] = scale * c_e * p->z[k];

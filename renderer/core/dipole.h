@@ -24,5 +24,8 @@ void dipole_classic(struct profile *p, double sigma_a, double sigma_s_prime, dou
  * R = alpha'^2 / (4 pi) sum (C_E z (1 + sigma_tr d) / d^2 + C_phi / D) e^(-sigma_tr d) / d over the
  * real source (+) and the virtual one (-, at z_v = -z_r - 4 A D). */
 void dipole_better(struct profile *p, double sigma_a, double sigma_s_prime, double eta);
+/* The same with its real source at `depth` (mm) instead of 1 / sigma_t' (photon beam diffusion integrates
+ * it along the beam), c1 and c2 the Fresnel moments (fresnel_moment). */
+void dipole_better_at(struct profile *p, double sigma_a, double sigma_s_prime, double c1, double c2, double depth);
 
 #endif

@@ -392,14 +392,14 @@ static void plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
     u->single_albedo[3] = (float)g;
     u->owned[0] = (float)frame_owned_shift(s->projection_size);
     /* The owned images weigh their depths by e^(rate (depth - centre)) (ownership.comp): R_d falls
-     * about as e^(-sigma_tr d) (profile_decay_rate), so the light of a footprint across a depth range lies nearer than its
-     * linear mean depth (which left the back-lit sphere 0.76-0.85 of the reference's mean at 256^2).
-     * d grows with the depth difference at the rate of its cosine (the light crossing at an angle):
+     * about as e^(-sigma_tr d) (profile_decay_rate), so the light of a footprint across a depth range
+     * lies nearer than its linear mean depth (which left the back-lit sphere 0.76-0.85 of the reference's
+     * mean at 256^2). d grows with the depth difference at the rate of its cosine (the light crossing at an angle):
      * half the slowest channel's sigma_tr measured best (sphere 0.88-0.90; the full rate: 0.96-1.07,
      * but rim-lit torus and ketchup sphere 1.16-1.17). Capped so that e^(+-rate radius) fits a float. */
     double view_radius = mesh->radius * FRAME_FIT_MARGIN;
-    double sigma_min = 0.5 * fmin(profile_decay_rate(&d[0]), fmin(profile_decay_rate(&d[1]), profile_decay_rate(&d[2]))) *
-                       plan->scale_mm;
+    double slowest = fmin(profile_decay_rate(&d[0]), fmin(profile_decay_rate(&d[1]), profile_decay_rate(&d[2])));
+    double sigma_min = 0.5 * slowest * plan->scale_mm;
     u->owned[2] = (float)fmin(fmax(sigma_min, FRAME_DEPTH_RATE_MIN / view_radius), FRAME_DEPTH_RATE_MAX / view_radius);
     u->owned[3] = (float)(2.0 * view_radius);
     if (plan->scatter_samples == 0)

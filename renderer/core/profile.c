@@ -48,6 +48,14 @@ static double source_gap(const struct profile *p, double d0, double d1)
     return (p->z[1] - p->z[0]) * (p->z[1] + p->z[0]) / (d0 + d1);
 }
 
+/* The paired fluence terms' integral outside radius t, over 2 pi: (e^(-s d0) - e^(-s d1)) / s, finite at
+ * s = 0 (sigma_a = 0). */
+static double paired_tail(const struct profile *p, double t)
+{
+    double d0 = source_distance(p, 0, t), d1 = source_distance(p, 1, t), gap = source_gap(p, d0, d1);
+    return p->a[0] * exp(-p->sigma[0] * d0) * gap * fraction(p->sigma[0] * gap);
+}
+
 double profile_rd(const struct profile *p, double r)
 {
     /* Sources at z = 0 (normalized diffusion) diverge as 1 / r at the exit point; a floor far inside
@@ -72,15 +80,11 @@ double profile_tail(const struct profile *p, double t)
         if (p->b[k] != 0.0)
             sum += p->b[k] * exp(-p->sigma[k] * d[k]) / d[k];
     }
-    if (paired(p)) {
-        /* (e^(-s d0) - e^(-s d1)) / s, finite at s = 0 (sigma_a = 0). */
-        double gap = source_gap(p, d[0], d[1]);
-        sum += p->a[0] * exp(-p->sigma[0] * d[0]) * gap * fraction(p->sigma[0] * gap);
-    } else {
-        for (int k = 0; k < 2; k++)
-            if (p->a[k] != 0.0)
-                sum += p->a[k] * exp(-p->sigma[k] * d[k]) / p->sigma[k];
-    }
+    if (paired(p))
+        return 2.0 * PI * (sum + paired_tail(p, t));
+    for (int k = 0; k < 2; k++)
+        if (p->a[k] != 0.0)
+            sum += p->a[k] * exp(-p->sigma[k] * d[k]) / p->sigma[k];
     return 2.0 * PI * sum;
 }
 
@@ -104,11 +108,8 @@ double profile_disc_offset(const struct profile *p, double radius, double offset
             sum += p->a[k] * exp(-s * inner) * delta * fraction(s * delta);
     }
     /* A wide disc's paired fluence terms would cancel against each other; their tails do not. */
-    if (paired(p) && radius > p->z[1]) {
-        struct profile fluence = *p;
-        fluence.b[0] = fluence.b[1] = 0.0;
-        sum += (profile_tail(&fluence, fabs(offset)) - profile_tail(&fluence, hypot(radius, offset))) / (2.0 * PI);
-    }
+    if (paired(p) && radius > p->z[1])
+        sum += paired_tail(p, fabs(offset)) - paired_tail(p, hypot(radius, offset));
     return 2.0 * PI * sum;
 }
 

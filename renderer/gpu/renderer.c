@@ -204,6 +204,12 @@ static lucent_status read_image(lucent_renderer *r, const lucent_scene *s, const
     return LUCENT_OK;
 }
 
+/* The profile a method that integrates one does: the material's, the dipole when it names none. */
+static lucent_profile integrated_profile(const lucent_material *m)
+{
+    return m->profile == LUCENT_PROFILE_DEFAULT ? LUCENT_PROFILE_DIPOLE : m->profile;
+}
+
 static const char *method_name(lucent_method m)
 {
     switch (m) {
@@ -233,6 +239,7 @@ static void describe(const lucent_scene *requested, const lucent_scene *s, const
                               plan->transmission_reason[l]);
     if (chosen)
         snprintf(choices, sizeof choices, "\"auto\":{%s},", chosen->decisions);
+    stats->profile = integrated_profile(&s->material);
     snprintf(stats->modelled, sizeof stats->modelled,
              "{\"method\":\"%s\",\"backend\":\"%s\",\"device\":\"%s\",%s\"views\":%d,\"profile\":\"%s\","
              "\"subsurface\":\"%s\",\"samples_per_channel\":%d,"
@@ -242,7 +249,7 @@ static void describe(const lucent_scene *requested, const lucent_scene *s, const
              "\"projection_triangles\":{\"front\":%u,\"sides_and_shadows\":%u},"
              "\"hidden_point_fallback\":\"%s\",\"single_scattering\":%s}",
              method_name(requested->method), stats->backend, device, choices, plan->view_count,
-             lucent_profile_name(s->material.profile),
+             lucent_profile_name(stats->profile),
              samples ? "sampled profile" : "diffuse limit (irradiance x total R_d)", samples,
              shared ? "shared" : "per_channel", samples ? gathered * (shared ? samples : 3 * samples) : 0,
              samples ? plan->far_block : 0, plan->near_disc_mm, s->projection_size,
@@ -286,12 +293,13 @@ static lucent_status render_reference(lucent_renderer *r, const lucent_scene *sc
     if (st != LUCENT_OK)
         return st;
     stats->triangles = gm->mesh->triangle_count;
+    stats->profile = integrated_profile(&scene->material);
     snprintf(stats->modelled, sizeof stats->modelled,
              "{\"method\":\"reference\",\"backend\":\"cpu\",\"profile\":\"%s\",\"scale_mm\":%.9g,\"points\":%u,"
              "\"point_spacing_mm\":%.6g,"
              "\"min_mean_free_path_mm\":%.6g,\"sum\":\"%s\",\"threshold\":%.6g,\"estimated_rel_error\":%.3g,"
              "\"ms_points\":%.3f,\"ms_pixels\":%.3f,\"single_scattering\":%s}",
-             lucent_profile_name(scene->material.profile), scale_mm, report.points, report.point_spacing_mm,
+             lucent_profile_name(stats->profile), scale_mm, report.points, report.point_spacing_mm,
              report.min_mean_free_path_mm,
              options.brute_force ? "brute force" : "hierarchical", report.threshold, report.estimated_rel_error,
              report.ms_points, report.ms_pixels, scene->single_scattering ? "true" : "false");
@@ -316,6 +324,7 @@ static lucent_status render_path(lucent_renderer *r, const lucent_scene *scene, 
     if (st != LUCENT_OK)
         return st;
     stats->triangles = gm->mesh->triangle_count;
+    stats->profile = LUCENT_PROFILE_DEFAULT;
     snprintf(stats->modelled, sizeof stats->modelled,
              "{\"method\":\"path\",\"backend\":\"cpu\",\"scale_mm\":%.9g,\"boundary\":\"%s\",\"samples\":%u,"
              "\"samples_asked\":%u,\"seed\":%u,\"rel_std_error\":%.4g,\"mean_steps\":%.4g,\"escaped_share\":%.4g,"

@@ -3,6 +3,7 @@
 #include "reference_single.h"
 
 #include "dipole.h"
+#include "phase.h"
 #include "linalg.h"
 
 #include <float.h>
@@ -31,11 +32,6 @@ static void refract_in(const double d[3], const double n[3], double eta, double 
     for (int i = 0; i < 3; i++)
         out[i] = a * d[i] + b * n[i];
     v3_normalize(out);
-}
-
-static double henyey_greenstein(double g, double mu)
-{
-    return (1.0 - g * g) / (4.0 * PI * pow(fmax(1.0 + g * g - 2.0 * g * mu, 1e-12), 1.5));
 }
 
 /* Light from light l scattered at x (inside) towards travel direction out_dir, per unit path length

@@ -310,19 +310,6 @@ static lucent_status render_reference(lucent_renderer *r, const struct options *
     return LUCENT_OK;
 }
 
-/* The profile a render reports it integrated ("profile" in modelled; the dipole when none). */
-static lucent_profile reported_profile(const lucent_stats *stats)
-{
-    lucent_profile p = LUCENT_PROFILE_DIPOLE;
-    for (int k = LUCENT_PROFILE_DIPOLE; k < LUCENT_PROFILE_DEFAULT; k++) {
-        char key[64];
-        snprintf(key, sizeof key, "\"profile\":\"%s\"", lucent_profile_name((lucent_profile)k));
-        if (strstr(stats->modelled, key))
-            p = (lucent_profile)k;
-    }
-    return p;
-}
-
 /* Method "path" for one case (boundary fresnel), with its relative standard error and time. */
 static lucent_status render_path(lucent_renderer *r, const struct options *o, int index, lucent_image *img,
                                  struct path_case *pc, lucent_error *err)
@@ -360,15 +347,15 @@ static lucent_status run_case(lucent_renderer *r, const struct options *o, int i
         if (!(o->modes & 1u << m))
             continue;
         lucent_image last = {0};
-        lucent_stats stats;
+        lucent_stats stats = {.profile = LUCENT_PROFILE_DIPOLE};
         st = make_scene(o, case_of(index), modes[m].json, &s, err);
         if (modes[m].profile != LUCENT_PROFILE_DEFAULT)
             s.material.profile = modes[m].profile;
         if (st == LUCENT_OK)
             st = measure(r, &s, o->frames, &last, &stats, &row[m], out->device, err);
-        lucent_image *reference = st == LUCENT_OK ? &ref[modes[m].single_scattering][reported_profile(&stats)] : NULL;
+        lucent_image *reference = st == LUCENT_OK ? &ref[modes[m].single_scattering][stats.profile] : NULL;
         if (st == LUCENT_OK && !reference->rgba)
-            st = render_reference(r, o, index, modes[m].single_scattering, reported_profile(&stats), reference, err);
+            st = render_reference(r, o, index, modes[m].single_scattering, stats.profile, reference, err);
         if (st == LUCENT_OK)
             st = lucent_image_compare(&last, reference, &row[m].e, err);
         if (st == LUCENT_OK && o->path_walks)
