@@ -156,6 +156,60 @@ vec3 profile_rd3(float r)
     return vec3(profile_rd(0, r), profile_rd(1, r), profile_rd(2, r));
 }
 
+// One source's share of R at the exit point, at signed depth h (mm) below the exit's tangent plane and
+// distance d (C: source_term).
+float source_term(float a, float c, float s, float h, float d)
+{
+    return exp(-s * d) * (a / d + c * h * (1.0 + s * d) / (d * d * d));
+}
+
+// R of channel c from light entering with normal n_in at d (mm) from the exit point of normal n_out
+// (d = exit - entry): both sources on the entry's normal and their images across the exit's boundary,
+// their light through the exit's tangent plane (C: profile_rd_between, where the reasons are).
+float profile_rd_between(int c, vec3 d, vec3 n_out, vec3 n_in)
+{
+    float z0 = frame.profile_z[0][c], z1 = frame.profile_z[1][c];
+    if (z0 <= 0.0 || !(length(d) < FAR_MM))
+        return profile_rd(c, length(d));
+    vec3 real = d + z0 * n_in, virt = d - z1 * n_in;   // exit point minus each source
+    float zb = 0.5 * (z1 - z0), d0 = max(length(real), 1e-12), d1 = max(length(virt), sqrt(dot(d, d) + z1 * z1));
+    float h0 = max(dot(real, n_out), z0), h1 = min(-dot(virt, n_out), h0 + 2.0 * zb);
+    // a convex edge (not a thin part): no nearer than on a plane
+    float shallow = clamp((z0 - dot(real, n_out)) / z0, 0.0, 1.0) * clamp(1.0 + dot(n_in, n_out), 0.0, 1.0);
+    d0 = max(max(d0, h0), shallow * sqrt(dot(d, d) + z0 * z0));
+    d1 = max(d1, abs(h1));
+    float across0 = d0 * d0 - h0 * h0, across1 = max(d1 * d1 - h1 * h1, 0.0);
+    float a0 = frame.profile_a[0][c], a1 = frame.profile_a[1][c];
+    float c0 = frame.profile_b[0][c] / z0, c1 = frame.profile_b[1][c] / z1;
+    float s0 = frame.profile_sigma[0][c], s1 = frame.profile_sigma[1][c];
+    float sum = source_term(a0, c0, s0, h0, d0) + source_term(a1, c1, s1, h1, d1);
+    float w = 0.5 * (1.0 - dot(n_in, n_out)), i0 = h0 + 2.0 * zb, i1 = h1 - 2.0 * zb;   // the exit's images
+    sum += w * (source_term(-a0, c0, s0, i0, max(sqrt(across0 + i0 * i0), 1e-12)) +
+                source_term(-a1, c1, s1, i1, max(sqrt(across1 + i1 * i1), z0)));
+    return max(sum, 0.0);
+}
+
+vec3 profile_rd_between3(vec3 d, vec3 n_out, vec3 n_in)
+{
+    return vec3(profile_rd_between(0, d, n_out, n_in), profile_rd_between(1, d, n_out, n_in),
+                profile_rd_between(2, d, n_out, n_in));
+}
+
+// The normal of view k's surface at texel t; `otherwise` where the texel holds none.
+vec3 texel_normal(int k, ivec2 t, vec3 otherwise)
+{
+    vec3 n = texelFetch(projection_normals, ivec3(t, k), 0).xyz;
+    return dot(n, n) > 0.0 ? normalize(n) : otherwise;
+}
+
+// Exit point minus a sample's entry point (mm), the sample `offset` texels across view k's image from p
+// and `dz` mm deeper along the view.
+vec3 entry_offset(int k, vec2 offset, float dz)
+{
+    return -((offset.x * frame.view_du[k].xyz + offset.y * frame.view_dv[k].xyz) * frame.params.y +
+             dz * frame.view_dir[k].xyz);
+}
+
 // R integrated over a disc of radius `radius` (mm) on a plane `dz` (mm) off the point, parallel to
 // the disc: T(|dz|) - T(sqrt(radius^2 + dz^2)) term by term so that narrow discs do not cancel; a wide
 // disc's paired fluence terms as the difference of their tails (C: profile_disc_offset).
@@ -179,6 +233,45 @@ vec3 rd_disc_offset(float radius, float dz)
             sum[c] += paired_tail(c, abs(dz)) - paired_tail(c, sqrt(radius * radius + dz * dz));
     }
     return 2.0 * PI * sum;
+}
+
+// One source's share of R integrated over a disc of radius `radius` (mm) centred on the exit's normal, the
+// source at signed depth h and no nearer than `nearest`: 2 pi (a (e^(-s h) - e^(-s D)) / s + c h
+// (e^(-s h) / h - e^(-s D) / D)), D = sqrt(radius^2 + h^2), written not to cancel.
+float source_disc(float a, float c, float s, float h, float radius, float nearest)
+{
+    float inner = max(abs(h), nearest), outer = sqrt(radius * radius + inner * inner);
+    float delta = radius * radius / (inner + outer);
+    return 2.0 * PI * (a * exp(-s * inner) * delta * fraction(s * delta) +
+                       c * h * falloff_difference(s, inner, outer, delta));
+}
+
+// profile_rd_between integrated over a disc of radius `radius` (mm) on the entry's surface, its centre at
+// d (mm, exit - centre) from the exit point and taken to lie on the exit's normal (a face across an edge
+// or the far side of a thin part, seen in the view p lands in).
+vec3 rd_disc_between(float radius, vec3 d, vec3 n_out, vec3 n_in)
+{
+    radius = min(radius, FAR_MM);
+    vec3 sum = vec3(0.0);
+    for (int c = 0; c < 3; c++) {
+        float z0 = frame.profile_z[0][c], z1 = frame.profile_z[1][c];
+        if (z0 <= 0.0 || !(length(d) < FAR_MM)) {
+            sum[c] = rd_disc_offset(radius, length(d))[c];
+            continue;
+        }
+        vec3 real = d + z0 * n_in, virt = d - z1 * n_in;
+        float zb = 0.5 * (z1 - z0), h0 = max(dot(real, n_out), z0), h1 = min(-dot(virt, n_out), h0 + 2.0 * zb);
+        float shallow = clamp((z0 - dot(real, n_out)) / z0, 0.0, 1.0) * clamp(1.0 + dot(n_in, n_out), 0.0, 1.0);
+        float a0 = frame.profile_a[0][c], a1 = frame.profile_a[1][c];
+        float c0 = frame.profile_b[0][c] / z0, c1 = frame.profile_b[1][c] / z1;
+        float s0 = frame.profile_sigma[0][c], s1 = frame.profile_sigma[1][c];
+        float w = 0.5 * (1.0 - dot(n_in, n_out));
+        sum[c] = source_disc(a0, c0, s0, h0, radius, max(shallow * sqrt(dot(d, d) + z0 * z0), 1e-12)) +
+                 source_disc(a1, c1, s1, h1, radius, z1) +
+                 w * (source_disc(-a0, c0, s0, h0 + 2.0 * zb, radius, 1e-12) +
+                      source_disc(-a1, c1, s1, h1 - 2.0 * zb, radius, z0));
+    }
+    return max(sum, vec3(0.0));
 }
 
 // Mean flux density over about `area_texels` texels of view k's projection image around `at`, from
@@ -226,20 +319,20 @@ bool footprint_light(int k, vec2 at, float area_texels, float depth, out vec3 fl
 // at the cell's flux-weighted depth, weighed against the profile's samples by the balance heuristic
 // (the weight over both sets' densities). Measured on a marble sphere lit from behind: the mean went
 // from 0.20 of the reference's to 0.82.
-vec3 light_through(int k, vec2 center, float depth, mat2 rotate, float mm_per_texel)
+vec3 light_through(int k, vec2 center, float depth, mat2 rotate, float mm_per_texel, vec3 n)
 {
     vec3 sum = vec3(0.0);
     for (int j = 0; j < (FAR_BLOCK > 1 ? THROUGH_SAMPLES / 2 : THROUGH_SAMPLES); j++) {   // frame_through_samples()
         vec4 s = frame.through[j];
-        vec2 at = center + (rotate * s.zw) * (s.x / mm_per_texel);
+        vec2 offset = (rotate * s.zw) * (s.x / mm_per_texel), at = center + offset;
         if (!inside(k, ivec2(floor(at))))
             continue;
         vec3 flux;
         float step;
         if (!footprint_light(k, at, min(s.y, s.x * s.x) / (mm_per_texel * mm_per_texel), depth, flux, step))
             continue;
-        float dz = step * frame.params.y;
-        vec3 rd = profile_rd3(sqrt(s.x * s.x + dz * dz)), at_r = profile_rd3(s.x);
+        vec3 n_in = texel_normal(k, ivec2(floor(at)), -frame.view_dir[k].xyz);
+        vec3 rd = profile_rd_between3(entry_offset(k, offset, step * frame.params.y), n, n_in), at_r = profile_rd3(s.x);
         vec3 profile = SHARED_SAMPLES ? vec3(dot(at_r, 1.0 / (3.0 * frame.rd_total.rgb)) / frame.through_pdf.w)
                                       : at_r / frame.through_pdf.rgb;
         sum += flux * rd / (float(SAMPLES) * profile + 1.0 / s.y);
@@ -248,9 +341,10 @@ vec3 light_through(int k, vec2 center, float depth, mat2 rotate, float mm_per_te
 }
 
 // Sums flux x R_d x weight over the far annulus's sample pattern around p in projection image k; each
-// sample's weight is the surface area (mm^2) it stands for. The distance to each sample is its exact
-// lateral offset plus a depth difference. Where view k sees p (`seen`): within a texel of p the image
-// cannot resolve the surface better than p's tangent plane, so the depth comes from that plane;
+// sample's weight is the surface area (mm^2) it stands for. Each sample lies at its exact lateral offset
+// plus a depth difference from p, with its texel's normal (R between them: profile_rd_between; on p's
+// tangent plane where the image holds no better surface). Where view k sees p (`seen`): within a texel
+// of p the image cannot resolve the surface better than p's tangent plane, so the depth comes from that plane;
 // farther out it is the depth of the texel the sample lands in, moved from the texel centre to the
 // sample along the tangent plane and compared with the image's own surface at p (the plane where that
 // texel is empty but the prefiltered flux is not). Texel quantization, facets and a proxy mesh's
@@ -279,11 +373,13 @@ vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px, bool seen, float share)
     // The near disc is p's own light (the compose pass) only in the views that see p; across an edge
     // it holds another face, taken as a plane lit like the texel p lands on, at that texel's depth.
     if (!seen && home_depth >= 0.0)
-        sum += prefiltered_flux(k, center, 1.0) * rd_disc_offset(frame.rd_total.w, (home_depth - depth) * frame.params.y);
+        sum += prefiltered_flux(k, center, 1.0) *
+               rd_disc_between(frame.rd_total.w, entry_offset(k, vec2(0.0), (home_depth - depth) * frame.params.y), n,
+                               texel_normal(k, home, -frame.view_dir[k].xyz));
     for (int c = 0; c < (SHARED_SAMPLES ? 1 : 3); c++) {
         for (int j = 0; j < SAMPLES; j++) {
             vec4 s = frame.samples[c * MAX_SAMPLES + j];
-            vec2 at = center + (rotate * s.zw) * (s.x / mm_per_texel);
+            vec2 offset = (rotate * s.zw) * (s.x / mm_per_texel), at = center + offset;
             ivec2 t = ivec2(floor(at));
             if (!inside(k, t))
                 continue;
@@ -291,30 +387,31 @@ vec3 scattered_light(int k, vec3 p, vec3 n, ivec2 px, bool seen, float share)
             // as wide as their rings, and a footprint that size reached back to p's own light
             // (side-lit sphere 2.5% bright, 1.2% with this bound).
             float footprint = min(s.y, s.x * s.x) * texels_per_mm2;
-            vec3 flux;
+            vec3 flux, n_in;
             float step;
             if (TRANSMISSION && !seen) {
                 if (!footprint_light(k, at, footprint, depth, flux, step))
                     continue;
+                n_in = texel_normal(k, t, -frame.view_dir[k].xyz);
             } else {
                 vec4 texel = texelFetch(projection_images, ivec3(t, k), 0);
                 if (!seen && texel.a < 0.0)
                     continue;
                 flux = s.x < mm_per_texel ? texel.rgb * share : prefiltered_flux(k, at, footprint);
-                step = seen && (s.x < mm_per_texel || texel.a < 0.0) ? dot(at - center, slope)
-                                                                     : texel.a + dot(at - (vec2(t) + 0.5), slope) - depth;
+                bool on_plane = seen && (s.x < mm_per_texel || texel.a < 0.0);
+                step = on_plane ? dot(at - center, slope) : texel.a + dot(at - (vec2(t) + 0.5), slope) - depth;
+                n_in = on_plane ? n : texel_normal(k, t, seen ? n : -frame.view_dir[k].xyz);
             }
-            float dz = step * frame.params.y;
-            float r = sqrt(s.x * s.x + dz * dz);
+            vec3 d = entry_offset(k, offset, step * frame.params.y);
             float weight = through ? 1.0 / (1.0 / s.y + 1.0 / frame.through[0].y) : s.y;
             if (SHARED_SAMPLES)
-                sum += flux * profile_rd3(r) * weight;
+                sum += flux * profile_rd_between3(d, n, n_in) * weight;
             else
-                sum[c] += flux[c] * profile_rd(c, r) * weight;
+                sum[c] += flux[c] * profile_rd_between(c, d, n, n_in) * weight;
         }
     }
     if (through)
-        sum += light_through(k, center, depth, rotate, mm_per_texel);
+        sum += light_through(k, center, depth, rotate, mm_per_texel, n);
     return sum;
 }
 

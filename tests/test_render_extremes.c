@@ -91,7 +91,10 @@ struct extreme {
     {.fields = SIDE_LIGHT, .irradiance = 1.0, .measured = {e5, e1, ea}, .mesh = 1 + (variant), \
      .mesh_radius = (radius), .mesh_offset = (offset)}
 static const struct extreme cases[] = {
-    {.fields = "\"material\":{\"preset\":\"spectralon\"}", .irradiance = 1.0, .measured = {0.0253, 0.0251, 0.0223}},
+    /* Without absorption R between points of the curved surface gathers a little more than a plane's total
+     * (the better dipole's five: 1.27x white at its brightest pixel, 2026-12-03). */
+    {.fields = "\"material\":{\"preset\":\"spectralon\"}", .irradiance = 1.0, .allowance = 1.35,
+     .measured = {0.0253, 0.0251, 0.0223}},
     /* radiance ~1e-10: the fast methods' error is large on these tiny values, but not black's 1.0.
      * Kernels flat over the whole object (this and ketchup at 1e-6 mm): auto's 64 samples come out
      * 11% bright where 32 were within 1% (auto was 0.068 and 0.070 with 32). */

@@ -335,25 +335,27 @@ static void check_far_blocks(lucent_renderer *r)
                disc[2] / disc[1]);
 }
 
-/* Method auto's profile when none is given: normalized diffusion where the light enters mostly where the
- * camera looks (a side light), the dipole where much of it enters behind the object (README: against
- * method path, burley is nearer under side light and loses the light through the object from behind). */
+/* Method auto's profile when none is given: the dipole under every light (README: against method path, with
+ * R between points of the surface it is the nearest under side and back light), and the one given when
+ * one is. */
 static void check_auto_profile(lucent_renderer *r)
 {
-    static const struct { const char *light, *want; } cases[] = {
-        {"[-1,0,0]", "burley"}, {"[0,0,-1]", "burley"}, {"[0,0,1]", "dipole"}, {"[-0.766,0,0.643]", "dipole"}};
-    for (int i = 0; i < 4; i++) {
+    static const struct { const char *light, *want, *given; } cases[] = {
+        {"[-1,0,0]", "dipole", ""}, {"[0,0,-1]", "dipole", ""}, {"[0,0,1]", "dipole", ""},
+        {"[-0.766,0,0.643]", "dipole", ""}, {"[-1,0,0]", "burley", ",\"profile\":\"burley\""}};
+    for (int i = 0; i < 5; i++) {
         char json[300], want[64];
         snprintf(json, sizeof json,
-                 "{\"mesh\":{\"builtin\":\"sphere\"},\"material\":{\"preset\":\"skin1\"},\"lights\":[{\"direction\":%s}],"
+                 "{\"mesh\":{\"builtin\":\"sphere\"},\"material\":{\"preset\":\"skin1\"%s},\"lights\":[{\"direction\":%s}],"
                  "\"camera\":{\"direction\":[0,0,-1]},\"width\":24,\"height\":24,\"method\":\"auto\"}",
-                 cases[i].light);
+                 cases[i].given, cases[i].light);
         snprintf(want, sizeof want, "\"profile\":\"%s\"", cases[i].want);
         lucent_image img;
         lucent_stats stats;
         test_render(r, json, &img, &stats);
         const char *share = strstr(stats.modelled, "\"hidden_light_share\":");
-        test_check(strstr(stats.modelled, want) && strstr(stats.modelled, "\"profile_reason\":") && share,
+        const char *reason = cases[i].given[0] ? "\"profile_reason\":\"given\"" : "\"profile_reason\":\"dipole: nearest";
+        test_check(strstr(stats.modelled, want) && strstr(stats.modelled, reason) && share,
                    "auto, light travelling along %s: %s (%.28s)", cases[i].light, cases[i].want, share ? share : "");
         lucent_image_free(&img);
     }

@@ -66,10 +66,12 @@ lucent_status auto_plan_choose(const lucent_scene *scene, const struct lucent_me
         entering_sum += entering[l];
     }
     out->hidden_light_share = entering_sum > 0.0 ? hidden_sum / entering_sum : 0.0;
+    /* With R taken between points of the surface the dipole is the nearest profile to method "path" under
+     * side and back light alike (README, Diffusion profiles); before that, normalized diffusion was under
+     * side light. */
     int chosen = scene->material.profile == LUCENT_PROFILE_DEFAULT;
     if (chosen)
-        s->material.profile = out->hidden_light_share <= AUTO_BURLEY_HIDDEN_SHARE ? LUCENT_PROFILE_BURLEY
-                                                                                 : LUCENT_PROFILE_DIPOLE;
+        s->material.profile = LUCENT_PROFILE_DIPOLE;
     out->profile = s->material.profile;
     double scale_mm = frame_scale_mm(scene, mesh), r_max = 2.0 * mesh->radius * scale_mm;
     double widest = 0.0, narrowest = INFINITY;
@@ -106,8 +108,6 @@ lucent_status auto_plan_choose(const lucent_scene *scene, const struct lucent_me
              out->diffuse_limit ? "diffuse limit: 95% of R_d within half a texel"
              : per_channel      ? "channel kernels differ over 3x: per channel"
                                 : "samples cover the kernel's texels, shared by the channels",
-             !chosen                                                    ? "given"
-             : s->material.profile == LUCENT_PROFILE_BURLEY ? "light enters mostly where the camera looks: burley"
-                                                            : "much light enters behind the object: dipole");
+             chosen ? "dipole: nearest method path under side and back light" : "given");
     return LUCENT_OK;
 }

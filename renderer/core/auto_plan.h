@@ -14,10 +14,6 @@
 #define AUTO_HIDDEN_LIGHT_SHARE 0.01
 /* Channels whose kernels differ more than this in radius sample their own profiles. */
 #define AUTO_PER_CHANNEL_SPREAD 3.0
-/* Up to this share of the entering light hidden from the camera (a side light: 0.44-0.49 on the bunny
- * and the sphere) normalized diffusion is nearer method "path" than the dipole; lit from behind (0.81
- * and more) its short tail loses the light through the object (README, Diffusion profiles). */
-#define AUTO_BURLEY_HIDDEN_SHARE 0.6
 
 struct auto_plan {
     lucent_scene scene;      /* method five or single with the chosen knobs */

@@ -72,6 +72,61 @@ double profile_rd(const struct profile *p, double r)
     return sum;
 }
 
+/* One source's share of R at the exit point: fluence coefficient a, flux coefficient per unit of depth c,
+ * rate s, at signed depth h below the exit's tangent plane (negative: above it) and distance d. */
+static double source_term(double a, double c, double s, double h, double d)
+{
+    return exp(-s * d) * (a / d + c * h * (1.0 + s * d) / (d * d * d));
+}
+
+/* The distance to the exit point of a source at depth `to`, across2 (squared) across the exit's plane from
+ * it, no nearer than `nearest`. */
+static double moved_distance(double across2, double to, double nearest)
+{
+    return fmax(sqrt(across2 + to * to), nearest);
+}
+
+double profile_rd_between(const struct profile *p, const double d[3], const double n_out[3], const double n_in[3])
+{
+    if (p->z[0] <= 0.0)
+        return profile_rd(p, v3_length(d));
+    /* The real source z_0 inside the entry point along its normal, the virtual one z_1 outside it, and the
+     * light they send through the exit's tangent plane. The real source is never taken shallower under
+     * that plane than on a flat surface (a thin part, a fold, or an entry point outside the plane: the
+     * source keeps its distance and moves to depth z_0; the virtual one stays within 2 z_b above it), and
+     * the virtual one is never nearer the exit point than on a plane (only an exit point outside the entry's
+     * plane, across air, brings it nearer), so R stays near the planar kernel's peak (within 1%). */
+    double floor_mm = 1e-6 / p->sigma_t_prime, tilt = v3_dot(n_in, n_out), z0 = p->z[0], z1 = p->z[1];
+    double real[3], virt[3];   /* exit point minus each source */
+    for (int a = 0; a < 3; a++) {
+        real[a] = d[a] + z0 * n_in[a];
+        virt[a] = d[a] - z1 * n_in[a];
+    }
+    double zb = 0.5 * (z1 - z0), d0 = fmax(v3_length(real), floor_mm);
+    double d1 = fmax(v3_length(virt), sqrt(v3_dot(d, d) + z1 * z1));
+    /* depth of the real one, height of the virtual: at most as high above the real one as on a plane */
+    double h0 = fmax(v3_dot(real, n_out), z0), h1 = fmin(-v3_dot(virt, n_out), h0 + 2.0 * zb);
+    /* A real source shallower than z_0 under the exit plane by a convex edge (light entering one face by
+     * the edge, leaving the other) is no nearer than on a plane at the straight distance, blended in over
+     * its depth 0..z_0 and over the faces' angle (none through opposite faces, where a thin part does
+     * carry the light through): at its own distance it made a bright line along a lit cube's edges
+     * (skin1: rel L2 0.235 -> 0.212 against method path). */
+    double shallow = fmin(fmax((z0 - v3_dot(real, n_out)) / z0, 0.0), 1.0) * fmin(fmax(1.0 + tilt, 0.0), 1.0);
+    d0 = fmax(fmax(d0, h0), shallow * sqrt(v3_dot(d, d) + z0 * z0));
+    d1 = fmax(d1, fabs(h1));
+    double across0 = d0 * d0 - h0 * h0, across1 = fmax(d1 * d1 - h1 * h1, 0.0);
+    double sum = source_term(p->a[0], p->b[0] / z0, p->sigma[0], h0, d0) +
+                 source_term(p->a[1], p->b[1] / z1, p->sigma[1], h1, d1);
+    /* The exit's own boundary: each source's image across the exit's extrapolated boundary (z_b beyond
+     * it), opposite in sign. On one plane these are the other source (already counted); through opposite
+     * faces they are Donner and Jensen's next pair; between, weighted by the faces' angle. Through slabs of
+     * 3-25 mm they bring the light to 0.77-1.19 of method "path"'s in marble (0.49-0.63 without). */
+    double w = 0.5 * (1.0 - tilt), i0 = h0 + 2.0 * zb, i1 = h1 - 2.0 * zb;
+    sum += w * (source_term(-p->a[0], p->b[0] / z0, p->sigma[0], i0, moved_distance(across0, i0, floor_mm)) +
+                source_term(-p->a[1], p->b[1] / z1, p->sigma[1], i1, moved_distance(across1, i1, fmax(z0, floor_mm))));
+    return fmax(sum, 0.0);
+}
+
 double profile_tail(const struct profile *p, double t)
 {
     double d[2], sum = 0.0;

@@ -21,6 +21,13 @@ struct profile {
 void profile_init(struct profile *p, lucent_profile kind, double sigma_a, double sigma_s_prime, double g,
                   double eta);
 double profile_rd(const struct profile *p, double r);        /* R(r), mm^-2; finite for r > 0 */
+/* R from light entering at one point of a curved surface to an exit point: d = exit - entry (mm), n_out and
+ * n_in the outward normals there (n_in may be a mean, shorter than 1). Both sources sit on the entry's
+ * normal, with their images across the exit's boundary where the exit faces away from the entry, and R is
+ * the light they send through the exit's tangent plane: through opposite faces, Donner and Jensen 2005's
+ * slab transmittance with its first two pairs. Equal to profile_rd(|d|) where both lie on one plane;
+ * normalized diffusion, which has no sources, is always profile_rd(|d|). Never negative. */
+double profile_rd_between(const struct profile *p, const double d[3], const double n_out[3], const double n_in[3]);
 double profile_tail(const struct profile *p, double t);      /* T(t): integral of R outside radius t */
 double profile_total(const struct profile *p);               /* T(0): the total diffuse reflectance */
 double profile_disc(const struct profile *p, double radius); /* integral of R over the disc, T(0) - T(radius) */

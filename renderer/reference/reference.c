@@ -1,5 +1,5 @@
 /* reference.c - the CPU ground truth of the dipole model: ray-cast visible points, irradiance points
- * spread evenly over the whole surface with shadow rays, and the sum of their flux times R_d(r). */
+ * spread evenly over the whole surface with shadow rays, and the sum of their flux times R_d between them. */
 #include "reference.h"
 #include "clock_ms.h"
 
@@ -41,6 +41,7 @@ struct point_node {
     double extent;           /* box diagonal, scene units */
     double flux[3];          /* sum of E * A per channel (E in light units, A in mm^2) */
     double centroid[3][3];   /* per channel, flux-weighted */
+    double normal[3];        /* flux-weighted mean of the points' normals (shorter than 1 where they differ) */
     uint32_t first;          /* leaf: first point; inner: index of the second child (first is next) */
     uint32_t count;          /* leaf: point count; inner: 0 */
 };
@@ -65,6 +66,7 @@ struct context {
     size_t point_count;
     double *pos;             /* 3 per point, mesh-centred scene units */
     double *flux;            /* 3 per point, E * A with A in mm^2 */
+    double *normal;          /* 3 per point, unit */
     /* hierarchy over the points, which are reordered so every leaf's points are contiguous */
     struct point_node *nodes;
     uint32_t node_count;
@@ -125,7 +127,7 @@ static void make_points(void *arg, size_t begin, size_t end)
         double before = t > 0 ? ctx->cum_area[t - 1] : 0.0, span = ctx->cum_area[t] - before;
         double s = fmin(fmax((u - before) / span, 0.0), 1.0);
         double v = fmod((double)j * GOLDEN_FRACTION, 1.0), r = sqrt(s);
-        double *p = &ctx->pos[j * 3], n[3], g[3], e[3];
+        double *p = &ctx->pos[j * 3], *n = &ctx->normal[j * 3], g[3], e[3];
         mesh_surface_at(ctx->mesh, t, r * (1.0 - v), r * v, p, n, g);
         irradiance(ctx, p, n, g, e);
         for (int c = 0; c < 3; c++)
@@ -195,9 +197,14 @@ static void leaf_summary(const struct context *ctx, struct point_node *node)
 {
     for (int a = 0; a < 3; a++)
         node->lo[a] = DBL_MAX, node->hi[a] = -DBL_MAX;
-    double moment[3][3] = {{0}};
+    double moment[3][3] = {{0}}, normal[3] = {0.0, 0.0, 0.0}, total = 0.0;
     for (uint32_t i = node->first; i < node->first + node->count; i++) {
         const double *p = &ctx->pos[(size_t)ctx->order[i] * 3], *f = &ctx->flux[(size_t)ctx->order[i] * 3];
+        const double *n = &ctx->normal[(size_t)ctx->order[i] * 3];
+        double w = f[0] + f[1] + f[2];
+        for (int a = 0; a < 3; a++)
+            normal[a] += w * n[a];
+        total += w;
         for (int a = 0; a < 3; a++) {
             node->lo[a] = fmin(node->lo[a], p[a]);
             node->hi[a] = fmax(node->hi[a], p[a]);
@@ -212,6 +219,8 @@ static void leaf_summary(const struct context *ctx, struct point_node *node)
         for (int a = 0; a < 3; a++)
             node->centroid[c][a] = node->flux[c] > 0.0 ? moment[c][a] / node->flux[c]
                                                        : 0.5 * (node->lo[a] + node->hi[a]);
+    for (int a = 0; a < 3; a++)
+        node->normal[a] = total > 0.0 ? normal[a] / total : 0.0;
 }
 
 static void merge_summary(struct point_node *node, const struct point_node *a, const struct point_node *b)
@@ -220,6 +229,9 @@ static void merge_summary(struct point_node *node, const struct point_node *a, c
         node->lo[k] = fmin(a->lo[k], b->lo[k]);
         node->hi[k] = fmax(a->hi[k], b->hi[k]);
     }
+    double wa = a->flux[0] + a->flux[1] + a->flux[2], wb = b->flux[0] + b->flux[1] + b->flux[2];
+    for (int k = 0; k < 3; k++)
+        node->normal[k] = wa + wb > 0.0 ? (wa * a->normal[k] + wb * b->normal[k]) / (wa + wb) : 0.0;
     for (int c = 0; c < 3; c++) {
         node->flux[c] = a->flux[c] + b->flux[c];
         for (int k = 0; k < 3; k++)
@@ -274,9 +286,11 @@ static lucent_status build_point_tree(struct context *ctx, lucent_error *err)
     ctx->order = malloc(n * sizeof *ctx->order);
     ctx->nodes = malloc(max_nodes * sizeof *ctx->nodes);
     double *pos = malloc(n * 3 * sizeof *pos), *flux = malloc(n * 3 * sizeof *flux);
-    if (!ctx->order || !ctx->nodes || !pos || !flux) {
+    double *normal = malloc(n * 3 * sizeof *normal);
+    if (!ctx->order || !ctx->nodes || !pos || !flux || !normal) {
         free(pos);
         free(flux);
+        free(normal);
         return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory for the hierarchy of %zu irradiance points", n);
     }
     for (size_t i = 0; i < n; i++)
@@ -286,11 +300,14 @@ static lucent_status build_point_tree(struct context *ctx, lucent_error *err)
         for (int a = 0; a < 3; a++) {
             pos[i * 3 + a] = ctx->pos[(size_t)ctx->order[i] * 3 + a];
             flux[i * 3 + a] = ctx->flux[(size_t)ctx->order[i] * 3 + a];
+            normal[i * 3 + a] = ctx->normal[(size_t)ctx->order[i] * 3 + a];
         }
     free(ctx->pos);
     free(ctx->flux);
+    free(ctx->normal);
     ctx->pos = pos;
     ctx->flux = flux;
+    ctx->normal = normal;
     return LUCENT_OK;
 }
 
@@ -302,6 +319,14 @@ static double distance_mm(const struct context *ctx, const double a[3], const do
     return v3_length(d) * ctx->scale_mm;
 }
 
+/* R_d of channel c from light entering at `from` (normal n_from) to the exit point x (normal n). */
+static double kernel(const struct context *ctx, int c, const double x[3], const double n[3], const double from[3],
+                     const double n_from[3])
+{
+    double d[3] = {(x[0] - from[0]) * ctx->scale_mm, (x[1] - from[1]) * ctx->scale_mm, (x[2] - from[2]) * ctx->scale_mm};
+    return profile_rd_between(&ctx->profile[c], d, n, n_from);
+}
+
 /* Points within near_radius of the shaded point, whose flux is spread over a disc rather than
  * sampled at the points: R_d peaks within z_r of the exit point, which may be far below the point
  * spacing (dense media, huge scales), where a point sum would hit or miss the peak. */
@@ -310,8 +335,8 @@ struct near_disc {
     uint32_t count;
 };
 
-static void sum_points(const struct context *ctx, const double x[3], size_t first, size_t end, double sum[3],
-                       struct near_disc *near)
+static void sum_points(const struct context *ctx, const double x[3], const double n[3], size_t first, size_t end,
+                       double sum[3], struct near_disc *near)
 {
     for (size_t i = first; i < end; i++) {
         const double *f = &ctx->flux[i * 3];
@@ -325,7 +350,7 @@ static void sum_points(const struct context *ctx, const double x[3], size_t firs
             continue;
         }
         for (int c = 0; c < 3; c++)
-            sum[c] += f[c] * profile_rd(&ctx->profile[c], r);
+            sum[c] += f[c] * kernel(ctx, c, x, n, &ctx->pos[i * 3], &ctx->normal[i * 3]);
     }
 }
 
@@ -352,7 +377,8 @@ static double box_distance(const struct point_node *n, const double x[3])
 
 /* Jensen & Buhler 2002: far nodes count as their flux at their centroid. A node holding x is at
  * distance 0 and is always opened. */
-static void sum_tree(const struct context *ctx, const double x[3], double sum[3], struct near_disc *near)
+static void sum_tree(const struct context *ctx, const double x[3], const double n[3], double sum[3],
+                     struct near_disc *near)
 {
     uint32_t stack[MAX_TREE_DEPTH + 2];
     int top = 0;
@@ -366,9 +392,9 @@ static void sum_tree(const struct context *ctx, const double x[3], double sum[3]
         if (distance >= ctx->near_radius && node->extent < ctx->threshold * distance) {
             for (int c = 0; c < 3; c++)
                 if (node->flux[c] > 0.0)
-                    sum[c] += node->flux[c] * profile_rd(&ctx->profile[c], distance_mm(ctx, x, node->centroid[c]));
+                    sum[c] += node->flux[c] * kernel(ctx, c, x, n, node->centroid[c], node->normal);
         } else if (node->count > 0) {
-            sum_points(ctx, x, node->first, (size_t)node->first + node->count, sum, near);
+            sum_points(ctx, x, n, node->first, (size_t)node->first + node->count, sum, near);
         } else {
             stack[top++] = node->first;
             stack[top++] = index + 1;
@@ -385,9 +411,9 @@ static void shade_pixel(struct context *ctx, int x, int y)
         return;
     struct near_disc near = {{0.0, 0.0, 0.0}, 0};
     if (ctx->brute_force)
-        sum_points(ctx, v.p, 0, ctx->point_count, sum, &near);
+        sum_points(ctx, v.p, v.n, 0, ctx->point_count, sum, &near);
     else
-        sum_tree(ctx, v.p, sum, &near);
+        sum_tree(ctx, v.p, v.n, sum, &near);
     add_near_disc(ctx, &near, sum);
     double k = fresnel_transmittance(ctx->eta, -v3_dot(v.n, v.dir)) / PI, single[3] = {0.0, 0.0, 0.0};
     if (ctx->single) {
@@ -440,7 +466,8 @@ static lucent_status alloc_points(struct context *ctx, lucent_error *err)
 {
     ctx->pos = malloc(ctx->point_count * 3 * sizeof *ctx->pos);
     ctx->flux = malloc(ctx->point_count * 3 * sizeof *ctx->flux);
-    if (!ctx->pos || !ctx->flux)
+    ctx->normal = malloc(ctx->point_count * 3 * sizeof *ctx->normal);
+    if (!ctx->pos || !ctx->flux || !ctx->normal)
         return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory for %zu irradiance points", ctx->point_count);
     return LUCENT_OK;
 }
@@ -451,6 +478,7 @@ static void free_context(struct context *ctx)
     free(ctx->cum_area);
     free(ctx->pos);
     free(ctx->flux);
+    free(ctx->normal);
     free(ctx->nodes);
     free(ctx->order);
 }

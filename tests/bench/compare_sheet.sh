@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # compare_sheet.sh - the project's before/after check for a change to a shader or pass: renders a fixed
-# set of named scenes with method "reference" (once, with the --after binary) and with the default
-# method with both binaries, and writes per scene one PNG sheet:
+# set of named scenes with method "reference" (once, with the --after binary; or --truth path: the random
+# walks) and with the default method (or --method) with both binaries, and writes per scene one PNG sheet:
 #
 #   row 1: reference | before | after | |before - reference| x4 | |after - reference| x4
 #   row 2: the same five, a 3x nearest-neighbour zoom of the region boxed in the reference
@@ -25,6 +25,7 @@ usage() {
     cat <<EOF
 usage: $prog --before BIN_A --after BIN_B --out DIR [--bunny BUNNY.obj] [--size N]
        [--scene NAME...] [--exposure STOPS] [--gain G] [--diff abs|signed] [--keep-exr]
+       [--method M] [--truth reference|path] [--walks N]
 
   --before BIN     lucent-render before the change (e.g. a build of the parent commit)
   --after BIN      lucent-render after the change; also renders the reference
@@ -37,6 +38,10 @@ usage: $prog --before BIN_A --after BIN_B --out DIR [--bunny BUNNY.obj] [--size 
   --gain G         multiplier of the difference images (default 4; 16 shows subtle changes)
   --diff MODE      abs (default): |test - reference| in colour; signed: luminance of test - reference
   --keep-exr       also keep the EXRs in DIR/exr/
+  --method M       the method before and after render (default: the scene's default, "five")
+  --truth T        what they are held against: "reference" (default) or "path" (random walks, slow),
+                   rendered by after
+  --walks N        walks a pixel for --truth path (default 64)
 
 Scenes (marble unless named; light "direction" is the way it travels; camera from +Z unless named):
   bunny_side       bunny, light from the camera's right ([-1,0,0]); zoom: the shadowed half
@@ -52,7 +57,7 @@ EOF
 die() { echo "$prog: $*" >&2; exit 2; }
 need_arg() { [[ $# -ge 2 && -n $2 && $2 != --* ]] || die "$1 needs a value (see --help)"; }
 
-before='' after='' bunny='' out='' size=256 exposure='' gain=4 diff=abs keep_exr=0 scenes=()
+before='' after='' bunny='' out='' size=256 exposure='' gain=4 diff=abs keep_exr=0 scenes=() method='' truth=reference walks=64
 [[ $# -gt 0 ]] || { usage >&2; exit 2; }
 while [[ $# -gt 0 ]]; do
     case $1 in
@@ -66,6 +71,9 @@ while [[ $# -gt 0 ]]; do
     --gain) need_arg "$@"; gain=$2; shift 2 ;;
     --diff) need_arg "$@"; diff=$2; shift 2 ;;
     --keep-exr) keep_exr=1; shift ;;
+    --method) need_arg "$@"; method=$2; shift 2 ;;
+    --truth) need_arg "$@"; truth=$2; shift 2 ;;
+    --walks) need_arg "$@"; walks=$2; shift 2 ;;
     --scene)
         need_arg "$@"; shift
         while [[ $# -gt 0 && $1 != --* ]]; do
@@ -89,6 +97,9 @@ if ! [[ $gain =~ $num ]] || ! awk -v g="$gain" 'BEGIN { exit !(g > 0) }'; then
     die "--gain must be a positive number, got \"$gain\""
 fi
 [[ $diff == abs || $diff == signed ]] || die "--diff must be abs or signed, got \"$diff\""
+[[ $truth == reference || $truth == path ]] || die "--truth must be reference or path, got \"$truth\""
+[[ $walks =~ ^[0-9]+$ ]] && ((walks >= 1)) || die "--walks must be a positive integer, got \"$walks\""
+[[ $method =~ ^[a-z_]*$ ]] || die "--method must be a method name, got \"$method\""
 command -v oiiotool >/dev/null || die "oiiotool not found (apt-get install openimageio-tools)"
 ((${#scenes[@]})) || read -ra scenes <<<"$default_scenes"
 for s in "${scenes[@]}"; do
@@ -211,7 +222,7 @@ mean_rgb() {  # mean_rgb EXR: the sum of the R, G, B averages (background pixels
 
 summary=$out/summary.md
 {
-    echo "Default method of before and after against \"reference\" (rendered by after), ${size}x${size}."
+    echo "Method ${method:-(default)} of before and after against \"$truth\" (rendered by after), ${size}x${size}."
     echo
     echo "- before: $before"
     echo "- after: $after"
@@ -224,9 +235,13 @@ for s in "${scenes[@]}"; do
     d=$tmp/$s
     mkdir -p "$d"
     base="{$(scene_json "$s"),\"width\":$size,\"height\":$size"
-    echo "$base,\"method\":\"reference\"}" > "$d/ref.json"
-    echo "$base}" > "$d/fast.json"
-    echo "$s: rendering the reference ..." >&2
+    if [[ $truth == path ]]; then
+        echo "$base,\"method\":\"path\",\"path\":{\"samples\":$walks}}" > "$d/ref.json"
+    else
+        echo "$base,\"method\":\"reference\"}" > "$d/ref.json"
+    fi
+    if [[ -n $method ]]; then echo "$base,\"method\":\"$method\"}" > "$d/fast.json"; else echo "$base}" > "$d/fast.json"; fi
+    echo "$s: rendering the $truth ..." >&2
     render "$after" "$d/ref.json" "$d/ref.exr"
     render "$before" "$d/fast.json" "$d/before.exr" --compare "$d/ref.exr"
     render "$after" "$d/fast.json" "$d/after.exr" --compare "$d/ref.exr"
@@ -275,7 +290,7 @@ for s in "${scenes[@]}"; do
 
     if [[ $diff == abs ]]; then dl="|%s - ref| x$gain"; else dl="%s - ref, signed x$gain"; fi
     # shellcheck disable=SC2059
-    labels=(reference "before" "after" "$(printf "$dl" before)" "$(printf "$dl" after)")
+    labels=("$truth" "before" "after" "$(printf "$dl" before)" "$(printf "$dl" after)")
     tiles=()
     for row in t z; do   # the full images, then the zoomed ones
         suffix=""
