@@ -313,18 +313,11 @@ static lucent_status build_point_tree(struct context *ctx, lucent_error *err)
 
 /* ---- radiance ---- */
 
-static double distance_mm(const struct context *ctx, const double a[3], const double b[3])
+/* a - b in mm. */
+static void offset_mm(const struct context *ctx, const double a[3], const double b[3], double d[3])
 {
-    double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-    return v3_length(d) * ctx->scale_mm;
-}
-
-/* R_d of channel c from light entering at `from` (normal n_from) to the exit point x (normal n). */
-static double kernel(const struct context *ctx, int c, const double x[3], const double n[3], const double from[3],
-                     const double n_from[3])
-{
-    double d[3] = {(x[0] - from[0]) * ctx->scale_mm, (x[1] - from[1]) * ctx->scale_mm, (x[2] - from[2]) * ctx->scale_mm};
-    return profile_rd_between(&ctx->profile[c], d, n, n_from);
+    for (int k = 0; k < 3; k++)
+        d[k] = (a[k] - b[k]) * ctx->scale_mm;
 }
 
 /* Points within near_radius of the shaded point, whose flux is spread over a disc rather than
@@ -342,15 +335,16 @@ static void sum_points(const struct context *ctx, const double x[3], const doubl
         const double *f = &ctx->flux[i * 3];
         if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0)
             continue;
-        double r = distance_mm(ctx, x, &ctx->pos[i * 3]);
-        if (r < ctx->near_radius * ctx->scale_mm) {
+        double d[3];
+        offset_mm(ctx, x, &ctx->pos[i * 3], d);
+        if (v3_length(d) < ctx->near_radius * ctx->scale_mm) {
             for (int c = 0; c < 3; c++)
                 near->flux[c] += f[c];
             near->count++;
             continue;
         }
         for (int c = 0; c < 3; c++)
-            sum[c] += f[c] * kernel(ctx, c, x, n, &ctx->pos[i * 3], &ctx->normal[i * 3]);
+            sum[c] += f[c] * profile_rd_between(&ctx->profile[c], d, n, &ctx->normal[i * 3]);
     }
 }
 
@@ -391,8 +385,11 @@ static void sum_tree(const struct context *ctx, const double x[3], const double 
         double distance = box_distance(node, x);
         if (distance >= ctx->near_radius && node->extent < ctx->threshold * distance) {
             for (int c = 0; c < 3; c++)
-                if (node->flux[c] > 0.0)
-                    sum[c] += node->flux[c] * kernel(ctx, c, x, n, node->centroid[c], node->normal);
+                if (node->flux[c] > 0.0) {
+                    double d[3];
+                    offset_mm(ctx, x, node->centroid[c], d);
+                    sum[c] += node->flux[c] * profile_rd_between(&ctx->profile[c], d, n, node->normal);
+                }
         } else if (node->count > 0) {
             sum_points(ctx, x, n, node->first, (size_t)node->first + node->count, sum, near);
         } else {
