@@ -163,29 +163,52 @@ float source_term(float a, float c, float s, float h, float d)
     return exp(-s * d) * (a / d + c * h * (1.0 + s * d) / (d * d * d));
 }
 
-// R of channel c from light entering with normal n_in at d (mm) from the exit point of normal n_out
-// (d = exit - entry): both sources on the entry's normal and their images across the exit's boundary,
-// their light through the exit's tangent plane (C: profile_rd_between, where the reasons are).
+// Channel c's two sources placed for light entering with normal n_in at d (mm) from the exit point of
+// normal n_out (d = exit - entry): the real one's depth and the virtual one's height under the exit's
+// tangent plane, as held (C: profile_rd_between, where the reasons are), and their coefficients.
+struct Sources {
+    vec3 real, virt;          // exit point minus each source
+    float h0, h1, zb, w;      // depth, height, extrapolation distance, weight of the exit's images
+    float shallow;            // how far a convex edge's hold applies, 0..1
+    float a0, a1, c0, c1, s0, s1;
+};
+
+Sources place_sources(int c, vec3 d, vec3 n_out, vec3 n_in)
+{
+    Sources q;
+    float z0 = frame.profile_z[0][c], z1 = frame.profile_z[1][c], tilt = dot(n_in, n_out);
+    q.real = d + z0 * n_in;
+    q.virt = d - z1 * n_in;
+    float depth = dot(q.real, n_out);
+    q.zb = 0.5 * (z1 - z0);
+    q.h0 = max(depth, z0);
+    q.h1 = min(-dot(q.virt, n_out), q.h0 + 2.0 * q.zb);
+    q.w = 0.5 * (1.0 - tilt);
+    q.shallow = clamp((z0 - depth) / z0, 0.0, 1.0) * clamp(1.0 + tilt, 0.0, 1.0);
+    q.a0 = frame.profile_a[0][c];
+    q.a1 = frame.profile_a[1][c];
+    q.c0 = frame.profile_b[0][c] / z0;
+    q.c1 = frame.profile_b[1][c] / z1;
+    q.s0 = frame.profile_sigma[0][c];
+    q.s1 = frame.profile_sigma[1][c];
+    return q;
+}
+
+// R of channel c from light entering with normal n_in at d (mm) from the exit point of normal n_out:
+// both sources and their images across the exit's boundary, their light through the exit's tangent plane.
 float profile_rd_between(int c, vec3 d, vec3 n_out, vec3 n_in)
 {
     float z0 = frame.profile_z[0][c], z1 = frame.profile_z[1][c];
     if (z0 <= 0.0 || !(length(d) < FAR_MM))
         return profile_rd(c, length(d));
-    vec3 real = d + z0 * n_in, virt = d - z1 * n_in;   // exit point minus each source
-    float zb = 0.5 * (z1 - z0), d0 = max(length(real), 1e-12), d1 = max(length(virt), sqrt(dot(d, d) + z1 * z1));
-    float h0 = max(dot(real, n_out), z0), h1 = min(-dot(virt, n_out), h0 + 2.0 * zb);
-    // a convex edge (not a thin part): no nearer than on a plane
-    float shallow = clamp((z0 - dot(real, n_out)) / z0, 0.0, 1.0) * clamp(1.0 + dot(n_in, n_out), 0.0, 1.0);
-    d0 = max(max(d0, h0), shallow * sqrt(dot(d, d) + z0 * z0));
-    d1 = max(d1, abs(h1));
-    float across0 = d0 * d0 - h0 * h0, across1 = max(d1 * d1 - h1 * h1, 0.0);
-    float a0 = frame.profile_a[0][c], a1 = frame.profile_a[1][c];
-    float c0 = frame.profile_b[0][c] / z0, c1 = frame.profile_b[1][c] / z1;
-    float s0 = frame.profile_sigma[0][c], s1 = frame.profile_sigma[1][c];
-    float sum = source_term(a0, c0, s0, h0, d0) + source_term(a1, c1, s1, h1, d1);
-    float w = 0.5 * (1.0 - dot(n_in, n_out)), i0 = h0 + 2.0 * zb, i1 = h1 - 2.0 * zb;   // the exit's images
-    sum += w * (source_term(-a0, c0, s0, i0, max(sqrt(across0 + i0 * i0), 1e-12)) +
-                source_term(-a1, c1, s1, i1, max(sqrt(across1 + i1 * i1), z0)));
+    Sources q = place_sources(c, d, n_out, n_in);
+    float d0 = max(max(max(length(q.real), 1e-12), q.h0), q.shallow * sqrt(dot(d, d) + z0 * z0));
+    float d1 = max(max(length(q.virt), sqrt(dot(d, d) + z1 * z1)), abs(q.h1));
+    float across0 = d0 * d0 - q.h0 * q.h0, across1 = max(d1 * d1 - q.h1 * q.h1, 0.0);
+    float sum = source_term(q.a0, q.c0, q.s0, q.h0, d0) + source_term(q.a1, q.c1, q.s1, q.h1, d1);
+    float i0 = q.h0 + 2.0 * q.zb, i1 = q.h1 - 2.0 * q.zb;   // the exit's images
+    sum += q.w * (source_term(-q.a0, q.c0, q.s0, i0, max(sqrt(across0 + i0 * i0), 1e-12)) +
+                  source_term(-q.a1, q.c1, q.s1, i1, max(sqrt(across1 + i1 * i1), z0)));
     return max(sum, 0.0);
 }
 
@@ -259,17 +282,11 @@ vec3 rd_disc_between(float radius, vec3 d, vec3 n_out, vec3 n_in)
             sum[c] = rd_disc_offset(radius, length(d))[c];
             continue;
         }
-        vec3 real = d + z0 * n_in, virt = d - z1 * n_in;
-        float zb = 0.5 * (z1 - z0), h0 = max(dot(real, n_out), z0), h1 = min(-dot(virt, n_out), h0 + 2.0 * zb);
-        float shallow = clamp((z0 - dot(real, n_out)) / z0, 0.0, 1.0) * clamp(1.0 + dot(n_in, n_out), 0.0, 1.0);
-        float a0 = frame.profile_a[0][c], a1 = frame.profile_a[1][c];
-        float c0 = frame.profile_b[0][c] / z0, c1 = frame.profile_b[1][c] / z1;
-        float s0 = frame.profile_sigma[0][c], s1 = frame.profile_sigma[1][c];
-        float w = 0.5 * (1.0 - dot(n_in, n_out));
-        sum[c] = source_disc(a0, c0, s0, h0, radius, max(shallow * sqrt(dot(d, d) + z0 * z0), 1e-12)) +
-                 source_disc(a1, c1, s1, h1, radius, z1) +
-                 w * (source_disc(-a0, c0, s0, h0 + 2.0 * zb, radius, 1e-12) +
-                      source_disc(-a1, c1, s1, h1 - 2.0 * zb, radius, z0));
+        Sources q = place_sources(c, d, n_out, n_in);
+        sum[c] = source_disc(q.a0, q.c0, q.s0, q.h0, radius, max(q.shallow * sqrt(dot(d, d) + z0 * z0), 1e-12)) +
+                 source_disc(q.a1, q.c1, q.s1, q.h1, radius, z1) +
+                 q.w * (source_disc(-q.a0, q.c0, q.s0, q.h0 + 2.0 * q.zb, radius, 1e-12) +
+                        source_disc(-q.a1, q.c1, q.s1, q.h1 - 2.0 * q.zb, radius, z0));
     }
     return max(sum, vec3(0.0));
 }
