@@ -102,17 +102,17 @@ double profile_rd_between(const struct profile *p, const double d[3], const doub
         real[a] = d[a] + z0 * n_in[a];
         virt[a] = d[a] - z1 * n_in[a];
     }
-    double zb = 0.5 * (z1 - z0), d0 = fmax(v3_length(real), floor_mm);
-    double d1 = fmax(v3_length(virt), sqrt(v3_dot(d, d) + z1 * z1));
+    double zb = 0.5 * (z1 - z0), dd = v3_dot(d, d), depth = v3_dot(real, n_out), d0 = fmax(v3_length(real), floor_mm);
+    double d1 = fmax(v3_length(virt), sqrt(dd + z1 * z1));
     /* depth of the real one, height of the virtual: at most as high above the real one as on a plane */
-    double h0 = fmax(v3_dot(real, n_out), z0), h1 = fmin(-v3_dot(virt, n_out), h0 + 2.0 * zb);
+    double h0 = fmax(depth, z0), h1 = fmin(-v3_dot(virt, n_out), h0 + 2.0 * zb);
     /* A real source shallower than z_0 under the exit plane by a convex edge (light entering one face by
      * the edge, leaving the other) is no nearer than on a plane at the straight distance, blended in over
      * its depth 0..z_0 and over the faces' angle (none through opposite faces, where a thin part does
      * carry the light through): at its own distance it made a bright line along a lit cube's edges
      * (skin1: rel L2 0.235 -> 0.212 against method path). */
-    double shallow = fmin(fmax((z0 - v3_dot(real, n_out)) / z0, 0.0), 1.0) * fmin(fmax(1.0 + tilt, 0.0), 1.0);
-    d0 = fmax(fmax(d0, h0), shallow * sqrt(v3_dot(d, d) + z0 * z0));
+    double shallow = fmin(fmax((z0 - depth) / z0, 0.0), 1.0) * fmin(fmax(1.0 + tilt, 0.0), 1.0);
+    d0 = fmax(fmax(d0, h0), shallow * sqrt(dd + z0 * z0));
     d1 = fmax(d1, fabs(h1));
     double across0 = d0 * d0 - h0 * h0, across1 = fmax(d1 * d1 - h1 * h1, 0.0);
     double sum = source_term(p->a[0], p->b[0] / z0, p->sigma[0], h0, d0) +
