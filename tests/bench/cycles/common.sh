@@ -1,0 +1,42 @@
+# common.sh - shell helpers of the timed Cycles comparisons (fast_vs_cycles.sh, path_vs_cycles.sh): clocks, scene
+# variants, Cycles renders with their own timing, and squared-error sums over R, G, B with oiiotool. Sourced.
+
+now() { date +%s%N; }
+secs() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.3f", (b - a) / 1e9 }'; }
+
+# variant BASE KEY=JSON...: the scene BASE with top-level keys replaced, to stdout
+variant() {
+    python3 -c 'import json, sys
+doc = json.load(open(sys.argv[1]))
+for kv in sys.argv[2:]:
+    k, v = kv.split("=", 1)
+    doc[k] = json.loads(v)
+print(json.dumps(doc))' "$@"
+}
+
+# write_if_changed FILE: stdin into FILE unless FILE already holds it (its age then says what is stale)
+write_if_changed() {
+    local new="$1.new"
+    cat > "$new"
+    if cmp -s "$new" "$1"; then rm "$new"; else mv "$new" "$1"; fi
+}
+
+# squares A [B]: the per-channel means of (A - B)^2 (of A^2 without B) over R, G, B, summed
+squares() {
+    if [ -n "${2:-}" ]; then
+        oiiotool "$1" --ch R,G,B "$2" --ch R,G,B --sub --dup --mul --printstats
+    else
+        oiiotool "$1" --ch R,G,B --dup --mul --printstats
+    fi | awk '/Stats Avg:/ { for (i = 3; i <= 5; i++) s += $i } END { printf "%.10g", s }'
+}
+
+# field FILE KEY: the first numeric value of "KEY": in FILE (lucent-render's --stats and --compare JSON)
+field() { grep -o "\"$2\":[-0-9.e+]*" "$1" | head -1 | cut -d: -f2; }
+
+# cycles SCENE OUT.exr SAMPLES SEED LOG: renders with Blender (scene.py, Subsurface Scattering node); prints the
+# seconds Cycles itself reports (scene sync, BVH, sampling; not Blender's start). Needs $blender and $here.
+cycles() {
+    "$blender" -b --factory-startup -P "$here/scene.py" -- "$1" "$2" --samples "$3" --seed "$4" > "$5" 2>&1 &&
+        [ -s "$2" ] || { echo "Cycles failed on $1 (see $5)" >&2; return 1; }
+    grep '^CYCLES_INFO ' "$5" | grep -o '"seconds": [0-9.]*' | cut -d' ' -f2
+}
