@@ -1,17 +1,28 @@
-# common.sh - shell helpers of the timed Cycles comparisons (fast_vs_cycles.sh, path_vs_cycles.sh): clocks, scene
-# variants, Cycles renders with their own timing, and squared-error sums over R, G, B with oiiotool. Sourced.
+# common.sh - shell helpers of the Cycles comparisons (compare.sh, fast_vs_cycles.sh, path_vs_cycles.sh): clocks,
+# scene documents and variants, Cycles renders with their own timing, squared-error sums with oiiotool. Sourced.
 
 now() { date +%s%N; }
 secs() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.3f", (b - a) / 1e9 }'; }
 
-# variant BASE KEY=JSON...: the scene BASE with top-level keys replaced, to stdout
+# variant BASE KEY=JSON...: the scene BASE with top-level keys replaced (profile= sets material.profile), to stdout
 variant() {
     python3 -c 'import json, sys
 doc = json.load(open(sys.argv[1]))
 for kv in sys.argv[2:]:
     k, v = kv.split("=", 1)
-    doc[k] = json.loads(v)
-print(json.dumps(doc))' "$@"
+    if k == "profile":
+        doc["material"]["profile"] = v
+    else:
+        doc[k] = json.loads(v)
+print(json.dumps(doc, indent=1))' "$@"
+}
+
+# write_scenes: makes $out and $bunny absolute and writes the documents of the scenes ${scenes[@]} under $out
+# (scenes.py; needs $here and $size)
+write_scenes() {
+    mkdir -p "$out"; out="$(cd "$out" && pwd)"
+    [ -z "$bunny" ] || bunny="$(cd "$(dirname "$bunny")" && pwd)/$(basename "$bunny")"
+    python3 "$here/scenes.py" "$out" "$size" "${bunny:-}" "${scenes[@]}"
 }
 
 # write_if_changed FILE: stdin into FILE unless FILE already holds it (its age then says what is stale)

@@ -25,6 +25,8 @@
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+# shellcheck source=common.sh
+. "$here/common.sh"
 lucent=""; bunny=""; out=""; size=256; samples=2048; path_samples=64; shader=sss; quick=0; threads=0
 blender=blender
 scenes=()
@@ -52,7 +54,6 @@ case "$shader" in sss|principled|both) ;; *) die "--shader must be sss, principl
 if [ "$quick" = 1 ]; then size=64; samples=64; path_samples=16; fi
 command -v "$blender" >/dev/null || die "blender not found (Debian 12: apt-get install blender, 3.4.1)"
 lucent="$(cd "$(dirname "$lucent")" && pwd)/$(basename "$lucent")"
-mkdir -p "$out"; out="$(cd "$out" && pwd)"
 if [ ${#scenes[@]} -eq 0 ]; then
     scenes=(sphere-marble-side sphere-marble-back sphere-skin1-side sphere-skin1-back)
     if [ -n "$bunny" ]; then
@@ -61,8 +62,6 @@ if [ ${#scenes[@]} -eq 0 ]; then
         echo "compare.sh: no --bunny OBJ given: sphere scenes only" >&2
     fi
 fi
-[ -z "$bunny" ] || bunny="$(cd "$(dirname "$bunny")" && pwd)/$(basename "$bunny")"
-
 cpu_model="$(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //' || true)"
 nthreads="$(nproc)"
 bl_version="$("$blender" --version 2>/dev/null | head -1)"
@@ -70,26 +69,9 @@ echo "CPU: ${cpu_model:-unknown}; threads: $nthreads; $bl_version; size ${size}x
      "path samples $path_samples, shader $shader"
 
 # ---- inputs: the icosphere OBJ and one Lucent scene JSON per scene --------------------------------------------
-python3 "$here/scenes.py" "$out" "$size" "${bunny:-}" "${scenes[@]}"
+write_scenes
 
 # ---- renders ------------------------------------------------------------------------------------------------------
-# variant BASE KEY=JSON...: the BASE scene with top-level keys replaced (profile= sets material.profile), to stdout
-variant() {
-    python3 - "$@" <<'PY'
-import json, sys
-doc = json.load(open(sys.argv[1]))
-for kv in sys.argv[2:]:
-    k, v = kv.split("=", 1)
-    if k == "profile":
-        doc["material"]["profile"] = v
-    else:
-        doc[k] = json.loads(v)
-print(json.dumps(doc, indent=1))
-PY
-}
-now() { date +%s%N; }
-secs() { echo "$(( ($2 - $1) / 1000000 ))" | awk '{printf "%.3f", $1 / 1000}'; }
-
 results="$out/results.jsonl"
 : > "$results"
 profiles_supported=1

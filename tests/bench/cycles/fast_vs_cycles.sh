@@ -47,9 +47,7 @@ if [ ${#scenes[@]} -eq 0 ]; then
     scenes=(sphere-marble-side sphere-marble-back sphere-skin1-side sphere-skin1-back)
     [ -z "$bunny" ] || scenes+=(bunny-marble-side bunny-marble-back bunny-skin1-side bunny-skin1-back)
 fi
-mkdir -p "$out"; out="$(cd "$out" && pwd)"
-[ -z "$bunny" ] || bunny="$(cd "$(dirname "$bunny")" && pwd)/$(basename "$bunny")"
-python3 "$here/scenes.py" "$out" "$size" "${bunny:-}" "${scenes[@]}"
+write_scenes
 
 cpu="$(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1)"
 table="$out/fast_vs_cycles.md"

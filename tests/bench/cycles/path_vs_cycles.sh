@@ -41,9 +41,7 @@ if [ ${#scenes[@]} -eq 0 ]; then
     scenes=(sphere-skin1-side sphere-skin1-back)
     [ -z "$bunny" ] || scenes+=(bunny-skin1-side bunny-skin1-back)
 fi
-mkdir -p "$out"; out="$(cd "$out" && pwd)"
-[ -z "$bunny" ] || bunny="$(cd "$(dirname "$bunny")" && pwd)/$(basename "$bunny")"
-python3 "$here/scenes.py" "$out" "$size" "${bunny:-}" "${scenes[@]}"
+write_scenes
 
 table="$out/path_vs_cycles.md"
 {
