@@ -22,7 +22,7 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     mat4 light_clip[MAX_LIGHTS];   // world -> shadow map clip
     vec4 light_depth[MAX_LIGHTS];  // x near, y far, z 1 = perspective, w bias (scene units)
     vec4 params;                   // x eta, y mm per scene unit, z depth tolerance (scene units), w lights
-    vec4 camera_eye;               // xyz camera position
+    vec4 camera_eye;               // xyz camera position; w the diffuse exit's F_t(cos) weight, 1 / (pi F_t,diffuse)
     // The diffusion profile (renderer/core/profile.h), per channel: two sources k at depth z (mm) with
     // rate sigma (mm^-1), fluence coefficient a and flux coefficient b:
     // R(r) = sum_k e^(-sigma_k D_k) (a_k / D_k + b_k (1 + sigma_k D_k) / D_k^3), D_k = sqrt(r^2 + z_k^2).

@@ -801,7 +801,7 @@ void compose_main()
     if (SAMPLES > 0)
         diffuse += upsampled_far(px, p, n, irradiance * (frame.rd_total.rgb - near));
     vec3 to_eye = normalize(frame.camera_eye.xyz - p);
-    vec3 radiance = diffuse * (fresnel_transmittance(frame.params.x, dot(n, to_eye)) / PI);
+    vec3 radiance = diffuse * (fresnel_transmittance(frame.params.x, dot(n, to_eye)) * frame.camera_eye.w);
     if (SINGLE_SCATTERING)
         radiance += single_scattered(p, n, to_eye, irradiance);
     if (SINGLE_SCATTERING && TRANSMISSION)

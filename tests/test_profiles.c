@@ -22,10 +22,12 @@ static int close_to(double got, double want, double rel_tol)
     return isfinite(got) && fabs(got - want) <= rel_tol * fabs(want);
 }
 
-/* pbrt-v3's (and d'Eon's) polynomial fits of the first two Fresnel moments, eta > 1. */
+/* pbrt-v3's (and d'Eon's) polynomial fits of the first two Fresnel moments; the first also below 1 (from outside). */
 static double fitted_moment(double eta, int k)
 {
     double n = eta, n2 = n * n, n3 = n2 * n, n4 = n3 * n, n5 = n4 * n;
+    if (k == 1 && eta < 1.0)
+        return 0.45966 - 1.73965 * n + 3.37668 * n2 - 3.904945 * n3 + 2.49277 * n4 - 0.68441 * n5;
     if (k == 1)
         return -4.61686 + 11.1136 * n - 10.4646 * n2 + 5.11455 * n3 - 1.27198 * n4 + 0.12746 * n5;
     return -547.033 + 45.3087 / n3 - 218.725 / n2 + 458.843 / n + 404.557 * n - 189.519 * n2 + 54.9327 * n3 -
@@ -44,6 +46,22 @@ static void fresnel_moments(void)
         }
     test_check(fresnel_moment(1.0, 1) == 0.0 && fresnel_moment(1.0, 2) == 0.0,
                "index-matched boundary: no internal reflection, moments 0");
+}
+
+/* The exit's normalization: the share of diffuse light that enters from outside, pbrt-v3's c = 1 - 2 FresnelMoment1(1 / eta)
+ * (the fit: within 2e-5 here), and by reciprocity eta^2 times the share leaving from inside, 1 - 2 C_1(eta). */
+static void diffuse_transmittance(void)
+{
+    const double etas[] = {1.1, 1.3, 1.4, 1.5, 2.0};
+    for (int i = 0; i < 5; i++) {
+        double eta = etas[i], got = fresnel_diffuse_transmittance(eta);
+        double fit = 1.0 - 2.0 * fitted_moment(1.0 / eta, 1), inside = eta * eta * (1.0 - 2.0 * fresnel_moment(eta, 1));
+        test_check(fabs(got - fit) < 5e-5 && fabs(got - inside) < 1e-6,
+                   "diffuse transmittance from outside at eta %.2f: %.7f; pbrt's fit %.7f, eta^2 x from inside %.7f",
+                   eta, got, fit, inside);
+    }
+    test_check(fresnel_diffuse_transmittance(1.0) == 1.0, "index-matched boundary: all diffuse light enters (%.17g)",
+               fresnel_diffuse_transmittance(1.0));
 }
 
 /* d'Eon's better dipole as published, virtual source at negative z_v: the oracle for the two-source form. */
@@ -345,6 +363,7 @@ static void extremes(void)
 int main(void)
 {
     fresnel_moments();
+    diffuse_transmittance();
     better_dipole();
     beam_diffusion_total();
     normalized_diffusion();

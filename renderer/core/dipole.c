@@ -53,6 +53,18 @@ double fresnel_moment(double eta, int k)
     return sum;
 }
 
+double fresnel_diffuse_transmittance(double eta)
+{
+    /* From outside there is no critical angle: F_t is smooth in mu and the midpoint rule converges fast. */
+    enum { STEPS = 512 };
+    double sum = 0.0;
+    for (int i = 0; i < STEPS; i++) {
+        double mu = (i + 0.5) / STEPS;
+        sum += fresnel_transmittance(eta, mu) * 2.0 * mu / STEPS;
+    }
+    return sum;
+}
+
 void dipole_classic(struct profile *p, double sigma_a, double sigma_s_prime, double eta)
 {
     memset(p, 0, sizeof *p);

@@ -15,6 +15,10 @@ double fresnel_transmittance(double eta, double cos_i);
 double fresnel_internal_reflectance(double eta, double cos_i);
 /* The k-th Fresnel moment from inside, int_0^1 F_r(mu) mu^k dmu (d'Eon's C_1 and C_2 are k = 1, 2). */
 double fresnel_moment(double eta, int k);
+/* The share of diffuse light from outside that enters, 2 int_0^1 F_t(mu) mu dmu = 4 C_phi(1 / eta). Every
+ * profile gives the light leaving the surface (its exitance); spread over the exit directions as F_t(cos) / pi
+ * it would lose 1 minus this share, so the exit divides by it (d'Eon 2012, pbrt-v3's Sw). */
+double fresnel_diffuse_transmittance(double eta);
 
 /* Jensen et al. 2001: a real source at z_r = 1 / sigma_t' of power alpha', its mirror image
  * 2 z_b above the boundary, exitance from the flux alone. */

@@ -53,6 +53,7 @@ struct context {
     struct bvh *bvh;
     struct profile profile[3];
     double scale_mm, threshold, eta;
+    double exit_weight;      /* sr^-1: the diffuse exit's F_t(cos) weight, 1 / (pi fresnel_diffuse_transmittance) */
     double near_radius;      /* scene units: points closer than this are integrated as a disc */
     double point_area_mm2;
     int brute_force, shadows;
@@ -412,7 +413,7 @@ static void shade_pixel(struct context *ctx, int x, int y)
     else
         sum_tree(ctx, v.p, v.n, sum, &near);
     add_near_disc(ctx, &near, sum);
-    double k = fresnel_transmittance(ctx->eta, -v3_dot(v.n, v.dir)) / PI, single[3] = {0.0, 0.0, 0.0};
+    double k = fresnel_transmittance(ctx->eta, -v3_dot(v.n, v.dir)) * ctx->exit_weight, single[3] = {0.0, 0.0, 0.0};
     if (ctx->single) {
         double to_eye[3] = {-v.dir[0], -v.dir[1], -v.dir[2]};
         single_scatter_radiance(&ctx->ss, v.p, v.n, v.g, to_eye, single);
@@ -497,7 +498,9 @@ lucent_status reference_render(const lucent_scene *scene, const struct lucent_me
                                struct reference_report *report, lucent_error *err)
 {
     struct context ctx = {.scene = scene, .mesh = mesh, .camera = camera, .scale_mm = scale_mm,
-                          .eta = scene->material.eta, .out = out, .brute_force = options->brute_force,
+                          .eta = scene->material.eta,
+                          .exit_weight = 1.0 / (PI * fresnel_diffuse_transmittance(scene->material.eta)),
+                          .out = out, .brute_force = options->brute_force,
                           .cancel = options->cancel,
                           .threshold = options->threshold > 0.0 ? options->threshold : DEFAULT_THRESHOLD};
     *report = (struct reference_report){0};
