@@ -26,6 +26,7 @@ plot_size() {  # plot_size SIZE
     rows "$size" '^five( projection [0-9]+)?$' > "$dir/projection.tsv"
     rows "$size" 'per_channel' > "$dir/per_channel.tsv"
     rows "$size" '(better_dipole|burley)$' > "$dir/profiles.tsv"
+    rows "$size" '^auto' > "$dir/auto.tsv"
     rows "$size" '' | awk -F'\t' '$6 == 1' > "$dir/pareto.tsv"
     # short labels: the knob for the sample and projection variants (the curve's colour gives the family)
     rows "$size" '' | awk -F'\t' -v OFS='\t' '{ $7 = $2; sub(/.*samples /, "s=", $7);
@@ -50,6 +51,7 @@ plot "$dir/pareto.tsv" using 3:4 with lines dashtype 2 linewidth 3 linecolor rgb
      "$dir/projection.tsv" using 3:4 with linespoints pointtype 9 pointsize 1.5 title "five, projection 128-1024", \
      "$dir/per_channel.tsv" using 3:4 with points pointtype 13 pointsize 2 title "five per_channel", \
      "$dir/profiles.tsv" using 3:4 with points pointtype 11 pointsize 2 title "five, other profiles", \
+     "$dir/auto.tsv" using 3:4 with points pointtype 15 pointsize 2 title "auto", \
      "$dir/all.tsv" using 3:(\$4 * (1 + 0.03 * (int(\$0) % 2 ? 1 : -1))):7 with labels left offset 0.6,0 \
          font ",9" notitle
 EOF
