@@ -47,7 +47,7 @@ static void check_square(const char *square, const char *preset, const char *pro
         struct profile d;
         profile_init(&d, m->profile, m->sigma_a[c], m->sigma_s_prime[c], m->g, m->eta);
         double ft = fresnel_transmittance(m->eta, 1.0);
-        double want = profile_total(&d) * ft * ft / (PI * fresnel_diffuse_transmittance(m->eta)), rel = fabs(centre[c] - want) / want;
+        double want = profile_total(&d) * ft * ft * diffuse_exit_weight(m->eta), rel = fabs(centre[c] - want) / want;
         test_check(rel < SQUARE_TOL, "square %-7s %-13s ch%d: centre %.6g, analytic %.6g, rel.err %.2e (tol %.0e; "
                                "%u points, spacing %.3f mm, mfp %.3f mm, estimated %.1e, %.0f + %.0f ms)",
                    preset, profile, c, centre[c], want, rel, SQUARE_TOL, rep.points, rep.point_spacing_mm,

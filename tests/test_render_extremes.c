@@ -199,7 +199,7 @@ static double exit_peak(const char *json)
     lucent_error err = {0};
     if (lucent_scene_parse(json, strlen(json), 1, &scene, &err) != LUCENT_OK)
         test_die("scene", &err);
-    return 1.0 / (PI * fresnel_diffuse_transmittance(scene.material.eta));
+    return diffuse_exit_weight(scene.material.eta);
 }
 
 /* Method auto's choice of profile is pinned to the dipole's here, so that its error is measured against the

@@ -65,6 +65,11 @@ double fresnel_diffuse_transmittance(double eta)
     return sum;
 }
 
+double diffuse_exit_weight(double eta)
+{
+    return 1.0 / (PI * fresnel_diffuse_transmittance(eta));
+}
+
 void dipole_classic(struct profile *p, double sigma_a, double sigma_s_prime, double eta)
 {
     memset(p, 0, sizeof *p);

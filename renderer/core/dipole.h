@@ -19,6 +19,8 @@ double fresnel_moment(double eta, int k);
  * profile gives the light leaving the surface (its exitance); spread over the exit directions as F_t(cos) / pi
  * it would lose 1 minus this share, so the exit divides by it (d'Eon 2012, pbrt-v3's Sw). */
 double fresnel_diffuse_transmittance(double eta);
+/* The diffuse exit's weight (sr^-1), 1 / (pi fresnel_diffuse_transmittance): radiance = exitance F_t(cos) weight. */
+double diffuse_exit_weight(double eta);
 
 /* Jensen et al. 2001: a real source at z_r = 1 / sigma_t' of power alpha', its mirror image
  * 2 z_b above the boundary, exitance from the flux alone. */

@@ -391,7 +391,7 @@ static void plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
     }
     u->rd_total[3] = (float)r_near;
     u->single_albedo[3] = (float)g;
-    u->camera_eye[3] = (float)(1.0 / (PI * fresnel_diffuse_transmittance(s->material.eta)));
+    u->camera_eye[3] = (float)diffuse_exit_weight(s->material.eta);
     u->owned[0] = (float)frame_owned_shift(s->projection_size);
     /* The owned images weigh their depths by e^(rate (depth - centre)) (ownership.comp): R_d falls
      * about as e^(-sigma_tr d) (profile_decay_rate), so the light of a footprint across a depth range

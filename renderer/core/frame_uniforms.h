@@ -29,7 +29,7 @@ struct frame_uniforms {
     float light_clip[LUCENT_MAX_LIGHTS][16];
     float light_depth[LUCENT_MAX_LIGHTS][4];
     float params[4];
-    float camera_eye[4]; /* w: the diffuse exit's weight 1 / (pi fresnel_diffuse_transmittance(eta)) */
+    float camera_eye[4]; /* w: the diffuse exit's weight, diffuse_exit_weight(eta) */
     /* The diffusion profile's two sources k per channel (struct profile): depth (mm), rate (mm^-1),
      * fluence and flux coefficients. */
     float profile_z[2][4];

@@ -53,7 +53,7 @@ struct context {
     struct bvh *bvh;
     struct profile profile[3];
     double scale_mm, threshold, eta;
-    double exit_weight;      /* sr^-1: the diffuse exit's F_t(cos) weight, 1 / (pi fresnel_diffuse_transmittance) */
+    double exit_weight;      /* sr^-1: diffuse_exit_weight(eta) */
     double near_radius;      /* scene units: points closer than this are integrated as a disc */
     double point_area_mm2;
     int brute_force, shadows;
@@ -499,8 +499,8 @@ lucent_status reference_render(const lucent_scene *scene, const struct lucent_me
 {
     struct context ctx = {.scene = scene, .mesh = mesh, .camera = camera, .scale_mm = scale_mm,
                           .eta = scene->material.eta,
-                          .exit_weight = 1.0 / (PI * fresnel_diffuse_transmittance(scene->material.eta)),
-                          .out = out, .brute_force = options->brute_force,
+                          .exit_weight = diffuse_exit_weight(scene->material.eta), .out = out,
+                          .brute_force = options->brute_force,
                           .cancel = options->cancel,
                           .threshold = options->threshold > 0.0 ? options->threshold : DEFAULT_THRESHOLD};
     *report = (struct reference_report){0};
