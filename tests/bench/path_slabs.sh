@@ -10,13 +10,8 @@ bin=$1 out=${2:-path_slabs.md} walks=${3:-1024} before=${4:-}
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 
-centre() {  # centre EXR: the mean R G B of the 3x3 centre pixels
-    oiiotool "$1" --ch R,G,B --cut 3x3+3+3 --printinfo:stats=1 2>/dev/null | awk '/Stats Avg/ { print $3, $4, $5; exit }'
-}
-ratios() {  # ratios "r g b" "r g b": the first over the second, per channel
-    awk -v a="$1" -v b="$2" 'BEGIN { split(a, x, " "); split(b, y, " ");
-        printf "%.2f / %.2f / %.2f", (y[1] > 0 ? x[1] / y[1] : 0), (y[2] > 0 ? x[2] / y[2] : 0), (y[3] > 0 ? x[3] / y[3] : 0) }'
-}
+# shellcheck source=slab_helpers.sh
+. "$(dirname "${BASH_SOURCE[0]}")/slab_helpers.sh"
 
 {
     echo "Slabs 50 mm wide lit from behind, centre of the unlit face, over method \"path\" ($walks walks), R / G / B."
@@ -27,15 +22,7 @@ ratios() {  # ratios "r g b" "r g b": the first over the second, per channel
 } > "$out"
 for thick in 3 10 25; do
     half=$(awk -v t="$thick" 'BEGIN { printf "%.6g", t / 100 }')   # half the thickness at 50 mm a unit
-    # tests/flat_cube.h's slab with its half thickness set: corners, one normal per face, faces as the cube's
-    awk -v h="$half" 'BEGIN {
-        printf "v -0.5 -0.5 %s\nv 0.5 -0.5 %s\nv 0.5 0.5 %s\nv -0.5 0.5 %s\n", -h, -h, -h, -h
-        printf "v -0.5 -0.5 %s\nv 0.5 -0.5 %s\nv 0.5 0.5 %s\nv -0.5 0.5 %s\n", h, h, h, h
-        print "vn 1 0 0\nvn -1 0 0\nvn 0 1 0\nvn 0 -1 0\nvn 0 0 1\nvn 0 0 -1"
-        print "f 2//1 3//1 7//1\nf 2//1 7//1 6//1\nf 1//2 5//2 8//2\nf 1//2 8//2 4//2"
-        print "f 4//3 8//3 7//3\nf 4//3 7//3 3//3\nf 1//4 2//4 6//4\nf 1//4 6//4 5//4"
-        print "f 5//5 6//5 7//5\nf 5//5 7//5 8//5\nf 1//6 4//6 3//6\nf 1//6 3//6 2//6"
-    }' > "$dir/slab.obj"
+    write_slab_obj "$dir/slab.obj" "$half"
     for preset in marble skin1; do
         base="\"mesh\":{\"file\":\"$dir/slab.obj\"},\"scale_mm\":50,\"material\":{\"preset\":\"$preset\"},\"lights\":[{\"direction\":[0,0,1],\"intensity\":1}],\"camera\":{\"direction\":[0,0,-1]},\"width\":9,\"height\":9"
         echo "{$base,\"method\":\"path\",\"path\":{\"samples\":$walks}}" > "$dir/path.json"
