@@ -1,5 +1,26 @@
 # common.sh - shell helpers of the Cycles comparisons (compare.sh, fast_vs_cycles.sh, path_vs_cycles.sh): clocks,
-# scene documents and variants, Cycles renders with their own timing, squared-error sums with oiiotool. Sourced.
+# arguments, scene documents and variants, Cycles renders with their own timing, squared-error sums with oiiotool. Sourced.
+
+die() { echo "${0##*/}: $*" >&2; exit 2; }
+
+# require_inputs: the arguments every script needs ($lucent an executable, $out) and Blender ($blender)
+require_inputs() {
+    [ -n "$lucent" ] && [ -x "$lucent" ] || die "--lucent-render PATH (an executable lucent-render) is required"
+    [ -n "$out" ] || die "--out DIR is required"
+    command -v "$blender" >/dev/null || die "blender not found (Debian 12: apt-get install blender, 3.4.1)"
+}
+
+# default_scenes MATERIAL...: unless --scene named some, the sphere's side- and back-lit scenes in each material,
+# then the bunny's when $bunny is given
+default_scenes() {
+    [ ${#scenes[@]} -eq 0 ] || return 0
+    local shape material
+    for shape in sphere ${bunny:+bunny}; do
+        for material in "$@"; do
+            scenes+=("$shape-$material-side" "$shape-$material-back")
+        done
+    done
+}
 
 now() { date +%s%N; }
 secs() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.3f", (b - a) / 1e9 }'; }

@@ -30,7 +30,6 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 lucent=""; bunny=""; out=""; size=256; samples=2048; path_samples=64; shader=sss; quick=0; threads=0
 blender=blender
 scenes=()
-die() { echo "compare.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
     case "$1" in
         --lucent-render) lucent="$2"; shift 2 ;;
@@ -48,20 +47,12 @@ while [ $# -gt 0 ]; do
         *) die "unknown argument $1 (see --help)" ;;
     esac
 done
-[ -n "$lucent" ] && [ -x "$lucent" ] || die "--lucent-render PATH (an executable lucent-render) is required"
-[ -n "$out" ] || die "--out DIR is required"
+require_inputs
 case "$shader" in sss|principled|both) ;; *) die "--shader must be sss, principled or both" ;; esac
 if [ "$quick" = 1 ]; then size=64; samples=64; path_samples=16; fi
-command -v "$blender" >/dev/null || die "blender not found (Debian 12: apt-get install blender, 3.4.1)"
 lucent="$(cd "$(dirname "$lucent")" && pwd)/$(basename "$lucent")"
-if [ ${#scenes[@]} -eq 0 ]; then
-    scenes=(sphere-marble-side sphere-marble-back sphere-skin1-side sphere-skin1-back)
-    if [ -n "$bunny" ]; then
-        scenes+=(bunny-marble-side bunny-marble-back bunny-skin1-side bunny-skin1-back)
-    else
-        echo "compare.sh: no --bunny OBJ given: sphere scenes only" >&2
-    fi
-fi
+[ ${#scenes[@]} -gt 0 ] || [ -n "$bunny" ] || echo "compare.sh: no --bunny OBJ given: sphere scenes only" >&2
+default_scenes marble skin1
 cpu_model="$(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //' || true)"
 nthreads="$(nproc)"
 bl_version="$("$blender" --version 2>/dev/null | head -1)"

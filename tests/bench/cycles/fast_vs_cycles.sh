@@ -21,7 +21,6 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 . "$here/common.sh"
 lucent=""; frames=""; bunny=""; out=""; size=256; samples=16; walks=16; method=five; blender=blender
 scenes=()
-die() { echo "fast_vs_cycles.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
     case "$1" in
         --lucent-render) lucent="$2"; shift 2 ;;
@@ -38,15 +37,10 @@ while [ $# -gt 0 ]; do
         *) die "unknown argument $1 (see --help)" ;;
     esac
 done
-[ -n "$lucent" ] && [ -x "$lucent" ] || die "--lucent-render PATH (an executable lucent-render) is required"
+require_inputs
 [ -n "$frames" ] && [ -x "$frames" ] || die "--bench-frames PATH (build/tests/bench/bench_frames) is required"
-[ -n "$out" ] || die "--out DIR is required"
-command -v "$blender" >/dev/null || die "blender not found (Debian 12: apt-get install blender, 3.4.1)"
 command -v oiiotool >/dev/null || die "oiiotool not found (apt-get install openimageio-tools)"
-if [ ${#scenes[@]} -eq 0 ]; then
-    scenes=(sphere-marble-side sphere-marble-back sphere-skin1-side sphere-skin1-back)
-    [ -z "$bunny" ] || scenes+=(bunny-marble-side bunny-marble-back bunny-skin1-side bunny-skin1-back)
-fi
+default_scenes marble skin1
 write_scenes
 
 cpu="$(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1)"

@@ -18,7 +18,6 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 . "$here/common.sh"
 lucent=""; bunny=""; out=""; size=256; samples=512; walks=64; blender=blender
 scenes=()
-die() { echo "path_vs_cycles.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
     case "$1" in
         --lucent-render) lucent="$2"; shift 2 ;;
@@ -33,14 +32,9 @@ while [ $# -gt 0 ]; do
         *) die "unknown argument $1 (see --help)" ;;
     esac
 done
-[ -n "$lucent" ] && [ -x "$lucent" ] || die "--lucent-render PATH (an executable lucent-render) is required"
-[ -n "$out" ] || die "--out DIR is required"
-command -v "$blender" >/dev/null || die "blender not found (Debian 12: apt-get install blender, 3.4.1)"
+require_inputs
 command -v oiiotool >/dev/null || die "oiiotool not found (apt-get install openimageio-tools)"
-if [ ${#scenes[@]} -eq 0 ]; then
-    scenes=(sphere-skin1-side sphere-skin1-back)
-    [ -z "$bunny" ] || scenes+=(bunny-skin1-side bunny-skin1-back)
-fi
+default_scenes skin1
 write_scenes
 
 table="$out/path_vs_cycles.md"
