@@ -141,6 +141,9 @@ typedef struct lucent_camera {
     double fov_deg;        /* vertical */
 } lucent_camera;
 
+/* A setting left to method "auto". */
+#define LUCENT_CHOSEN (-1)
+
 typedef struct lucent_scene {
     lucent_mesh_ref mesh;
     double scale_mm;       /* millimetres per scene unit; 0 = bounding-sphere diameter becomes 50 mm */
@@ -153,7 +156,8 @@ typedef struct lucent_scene {
     int samples;           /* per channel */
     lucent_sampling sampling;
     lucent_fallback fallback;
-    int single_scattering;  /* 1: add Jensen 2001's single-scattering term */
+    int single_scattering;  /* 1: add Jensen 2001's single-scattering term; 0: not; LUCENT_CHOSEN: method
+                             * "auto" chooses (a scene document for "auto" without the key) */
     int projection_size;   /* side of the front projection image, texels */
     int side_projection_size;  /* side of the four side images; 0 = projection_size / 2 */
     double background[4];  /* linear RGBA composited under the object on output */
@@ -293,6 +297,8 @@ typedef struct lucent_stats {
     char modelled[2048];
     lucent_profile profile;     /* the diffusion profile integrated (modelled's "profile"); DEFAULT for
                                  * method path, which uses none */
+    int single_scattering;      /* 1 when the single-scattering term was added (modelled's
+                                 * "single_scattering"; method auto chooses it) */
 } lucent_stats;
 
 /* Renderers of one process share a Vulkan device (or an EGL display, each with its own OpenGL context) per

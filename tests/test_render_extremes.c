@@ -202,8 +202,9 @@ static double exit_peak(const char *json)
     return diffuse_exit_weight(scene.material.eta);
 }
 
-/* Method auto's choice of profile is pinned to the dipole's here, so that its error is measured against the
- * dipole's reference like the other methods' (the choice itself: test render_modelled); the other profiles
+/* Method auto's choice of profile is pinned to the dipole's here, and its single scattering to the case's, so
+ * that its error is measured against the same reference as the other methods' (the choices themselves: test
+ * render_modelled); the other profiles
  * are rendered by five at every extreme too, checked finite and bounded. Returns the case's peak bound:
  * the diffuse exit F_t / (pi F_t,diffuse) of all the light that can enter, with its allowance. */
 static double render_case(lucent_renderer *r, const struct extreme *c, const char *mode, lucent_profile profile,
@@ -213,14 +214,16 @@ static double render_case(lucent_renderer *r, const struct extreme *c, const cha
     /* The torus case and method auto choose their own projection size. */
     int own_projection = strstr(c->fields, "projection_size") || strstr(mode, "auto");
     int side = c->side ? c->side : 48;
+    const char *pinned =
+        strstr(mode, "auto") && !strstr(c->fields, "single_scattering") ? ",\"single_scattering\":false" : "";
     if (c->mesh) {
         snprintf(mesh, sizeof mesh, "/tmp/lucent-extreme-%d.obj", (int)getpid());
         write_sphere_obj(mesh, c->mesh_radius, c->mesh_offset, (enum sphere_variant)(c->mesh - 1));
     }
-    snprintf(json, sizeof json, "{%s%s%s%s,%s\"width\":%d,\"height\":%d,%s%s,\"format\":\"exr\"}",
+    snprintf(json, sizeof json, "{%s%s%s%s,%s\"width\":%d,\"height\":%d,%s%s%s,\"format\":\"exr\"}",
              c->mesh ? "\"mesh\":{\"file\":\"" : "", mesh, c->mesh ? "\"}," : "", c->fields,
              strstr(c->fields, "\"camera\"") ? "" : FRONT_VIEW ",", side, side,
-             own_projection ? "" : "\"projection_size\":64,", mode);
+             own_projection ? "" : "\"projection_size\":64,", mode, pinned);
     double bound = c->irradiance * exit_peak(json) * (c->allowance > 0.0 ? c->allowance : NOISE_ALLOWANCE);
     test_render_profile(r, json, profile, out, stats);
     if (c->mesh)
@@ -335,7 +338,8 @@ static void check_hand_built(lucent_renderer *r)
     /* what the parser refuses and the plan would turn into inf or NaN */
     static const char *const what[] = {"g = 1", "fov 0", "light direction NaN", "light direction zero",
                                        "point light at 1e300", "light colour inf", "intensity -1",
-                                       "camera position = target", "light type 7", "profile 9"};
+                                       "camera position = target", "light type 7", "profile 9",
+                                       "single_scattering 2", "single_scattering left to auto with method five"};
     for (int i = 0; i < (int)(sizeof what / sizeof what[0]); i++) {
         lucent_scene_defaults(&scene);
         scene.width = scene.height = 16;
@@ -350,7 +354,9 @@ static void check_hand_built(lucent_renderer *r)
         case 6: l->intensity = -1; break;
         case 7: scene.camera = (lucent_camera){.given = 1, .up = {0, 1, 0}, .fov_deg = 40}; break;
         case 8: l->type = (lucent_light_type)7; break;
-        default: scene.material.profile = (lucent_profile)9; break;
+        case 9: scene.material.profile = (lucent_profile)9; break;
+        case 10: scene.single_scattering = 2; break;
+        default: scene.method = LUCENT_METHOD_FIVE, scene.single_scattering = LUCENT_CHOSEN; break;
         }
         st = lucent_render(r, &scene, &img, NULL, &err);
         test_check(st == LUCENT_E_LIMIT, "hand-built scene with %s refused: [%s] %s", what[i], err.field, err.message);

@@ -337,18 +337,24 @@ static void check_far_blocks(lucent_renderer *r)
 
 /* Method auto's profile when none is given: the dipole under every light (README: against method path, with
  * R between points of the surface it is the nearest under side and back light), and the one given when
- * one is. */
+ * one is. Its single scattering: on where light enters behind an absorbing object (against path, the dipole
+ * alone misses skin1's and ketchup's light scattered once on its way through), off behind a white one
+ * (marble: its diffusion is already too bright there) and elsewhere, as given when given. */
 static void check_auto_profile(lucent_renderer *r)
 {
-    static const struct { const char *light, *want, *given; } cases[] = {
-        {"[-1,0,0]", "dipole", ""}, {"[0,0,-1]", "dipole", ""}, {"[0,0,1]", "dipole", ""},
-        {"[-0.766,0,0.643]", "dipole", ""}, {"[-1,0,0]", "burley", ",\"profile\":\"burley\""}};
-    for (int i = 0; i < 5; i++) {
+    static const struct { const char *preset, *light, *want, *given, *single_reason; int single; } cases[] = {
+        {"skin1", "[-1,0,0]", "dipole", "", "no light enters behind", 0},
+        {"skin1", "[0,0,-1]", "dipole", "", "no light enters behind", 0},
+        {"skin1", "[0,0,1]", "dipole", "", "light enters behind an absorbing medium", 1},
+        {"skin1", "[-0.766,0,0.643]", "dipole", "", "light enters behind an absorbing medium", 1},
+        {"marble", "[0,0,1]", "dipole", "", "light enters behind a white medium", 0},
+        {"skin1", "[-1,0,0]", "burley", ",\"profile\":\"burley\"", "no light enters behind", 0}};
+    for (int i = 0; i < 6; i++) {
         char json[300], want[64];
         snprintf(json, sizeof json,
-                 "{\"mesh\":{\"builtin\":\"sphere\"},\"material\":{\"preset\":\"skin1\"%s},\"lights\":[{\"direction\":%s}],"
+                 "{\"mesh\":{\"builtin\":\"sphere\"},\"material\":{\"preset\":\"%s\"%s},\"lights\":[{\"direction\":%s}],"
                  "\"camera\":{\"direction\":[0,0,-1]},\"width\":24,\"height\":24,\"method\":\"auto\"}",
-                 cases[i].given, cases[i].light);
+                 cases[i].preset, cases[i].given, cases[i].light);
         snprintf(want, sizeof want, "\"profile\":\"%s\"", cases[i].want);
         lucent_image img;
         lucent_stats stats;
@@ -356,9 +362,26 @@ static void check_auto_profile(lucent_renderer *r)
         const char *share = strstr(stats.modelled, "\"hidden_light_share\":");
         const char *reason = cases[i].given[0] ? "\"profile_reason\":\"given\"" : "\"profile_reason\":\"dipole: nearest";
         test_check(strstr(stats.modelled, want) && strstr(stats.modelled, reason) && share,
-                   "auto, light travelling along %s: %s (%.28s)", cases[i].light, cases[i].want, share ? share : "");
+                   "auto, %s, light travelling along %s: %s (%.28s)", cases[i].preset, cases[i].light, cases[i].want,
+                   share ? share : "");
+        char single[96];
+        snprintf(single, sizeof single, "\"single_scattering_reason\":\"%s", cases[i].single_reason);
+        test_check(stats.single_scattering == cases[i].single && strstr(stats.modelled, single) &&
+                       strstr(stats.modelled, cases[i].single ? "\"single_scattering\":true" : "\"single_scattering\":false"),
+                   "auto, %s, light travelling along %s: single scattering %s", cases[i].preset, cases[i].light,
+                   stats.single_scattering ? "on" : "off");
         lucent_image_free(&img);
     }
+    lucent_image img;
+    lucent_stats stats;
+    test_render(r,
+                "{\"mesh\":{\"builtin\":\"sphere\"},\"material\":{\"preset\":\"skin1\"},\"lights\":[{\"direction\":[0,0,1]}],"
+                "\"camera\":{\"direction\":[0,0,-1]},\"width\":24,\"height\":24,\"method\":\"auto\","
+                "\"single_scattering\":false}",
+                &img, &stats);
+    test_check(!stats.single_scattering && strstr(stats.modelled, "\"single_scattering_reason\":\"given\""),
+               "auto, back light, single_scattering false given: kept (%s)", stats.single_scattering ? "on" : "off");
+    lucent_image_free(&img);
 }
 
 /* The profile a render integrated is named in what it modelled, by the image-space and the CPU methods. */

@@ -390,6 +390,10 @@ static void test_values(void)
               parse("{\"material\": {\"preset\": \"marble\"}}", &s) && s.material.profile == LUCENT_PROFILE_DEFAULT &&
               strcmp(lucent_profile_name(s.material.profile), "dipole") == 0,
           "material.profile with a preset; without one DEFAULT (the dipole, or method auto's choice)");
+    check(parse("{\"method\": \"auto\"}", &s) && s.single_scattering == LUCENT_CHOSEN &&
+              parse("{\"method\": \"auto\", \"single_scattering\": false}", &s) && s.single_scattering == 0 &&
+              parse("{\"method\": \"five\"}", &s) && s.single_scattering == 0,
+          "single_scattering: left to method auto when it is not given (LUCENT_CHOSEN), else as given");
 }
 
 /* Total diffuse reflectance of the dipole (research notes §1.3), used to check the transcription

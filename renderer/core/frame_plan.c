@@ -163,6 +163,24 @@ void frame_light_shares(const lucent_scene *s, const struct lucent_mesh *m, cons
     }
 }
 
+static int point_light_inside(const lucent_light *light, const double centred_position[3], double radius)
+{
+    return light->type == LUCENT_LIGHT_POINT && v3_length(centred_position) <= radius;
+}
+
+int frame_light_enters_behind(const lucent_scene *s, const struct lucent_mesh *mesh, const double forward[3])
+{
+    double hidden[LUCENT_MAX_LIGHTS], entering[LUCENT_MAX_LIGHTS], pos[3];
+    frame_light_shares(s, mesh, forward, FRAME_BACK_COS, hidden, entering);
+    for (int l = 0; l < s->light_count; l++) {
+        centred(s->lights[l].position, mesh, pos);
+        if (!point_light_inside(&s->lights[l], pos, mesh->radius * FRAME_FIT_MARGIN) &&
+            hidden[l] > FRAME_LIGHT_VIEW_SHARE * entering[l])
+            return 1;
+    }
+    return 0;
+}
+
 /* Views along the lights whose light enters where no camera view faces the surface well (transmission):
  * light entering the back is seen by no camera view, so without them it never reaches the front. They
  * join the gathered integration as views like the others: the ownership pass shares every point among
@@ -181,7 +199,7 @@ static void plan_light_views(const lucent_scene *s, const struct lucent_mesh *me
         const char *reason = "the camera's views see where its light enters";
         if (!gathered)
             reason = "none: only the gathered five-view integration takes light views";
-        else if (s->lights[l].type == LUCENT_LIGHT_POINT && v3_length(pos[l]) <= radius)
+        else if (point_light_inside(&s->lights[l], pos[l], radius))
             reason = "none: a point light within the object's bounds";
         else if (hidden[l] > FRAME_LIGHT_VIEW_SHARE * entering[l])
             continue;   /* a candidate: keeps hidden[l]; chosen or not, its reason is set below */

@@ -63,6 +63,10 @@ struct frame_plan {
  * camera view faces it by more than cos 60 degrees. */
 #define FRAME_BACK_COS 0.866
 #define FRAME_LIGHT_VIEW_SHARE 0.10
+/* 1 when a light brings more than FRAME_LIGHT_VIEW_SHARE of its light in on surface facing away from the
+ * camera (within acos(FRAME_BACK_COS) of straight away) and is no point light within the object's bounds:
+ * the lights that the five-view integration gives light views. */
+int frame_light_enters_behind(const lucent_scene *scene, const struct lucent_mesh *mesh, const double forward[3]);
 /* The light each light brings into the surface (area x cosine x irradiance, unshadowed), in one pass
  * over the triangles: entering[l] in all, hidden[l] on surface whose normal's cosine to `forward` (the
  * camera's) exceeds `min_away` (0: any surface facing away from the camera). An open mesh is lit on the

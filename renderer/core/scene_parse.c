@@ -739,6 +739,8 @@ static lucent_status parse_output(json_t *doc, lucent_scene *s, lucent_error *er
         st = get_enum(doc, "", "fallback", fallback_names, &fallback, err);
     if (st == LUCENT_OK)
         st = get_bool(doc, "single_scattering", &s->single_scattering, err);
+    if (method == LUCENT_METHOD_AUTO && !json_object_get(doc, "single_scattering"))
+        s->single_scattering = LUCENT_CHOSEN;
     s->fallback = (lucent_fallback)fallback;
     s->method = (lucent_method)method;
     if (st == LUCENT_OK)

@@ -130,6 +130,9 @@ static lucent_status check_scene(const lucent_scene *s, lucent_error *err)
     if (!(m->profile >= LUCENT_PROFILE_DIPOLE && m->profile <= LUCENT_PROFILE_DEFAULT))
         return lucent_fail(err, LUCENT_E_LIMIT, "material.profile", "must be one of lucent_profile's values (got %d)",
                            (int)m->profile);
+    if (s->single_scattering != 0 && s->single_scattering != 1 &&
+        !(s->single_scattering == LUCENT_CHOSEN && s->method == LUCENT_METHOD_AUTO))
+        return lucent_fail(err, LUCENT_E_LIMIT, "single_scattering", "must be 0, 1 or (method auto) LUCENT_CHOSEN");
     if (s->light_count < 1 || s->light_count > LUCENT_MAX_LIGHTS)
         return lucent_fail(err, LUCENT_E_LIMIT, "lights", "must hold 1..%d lights", LUCENT_MAX_LIGHTS);
     for (int i = 0; i < s->light_count; i++) {
@@ -240,6 +243,7 @@ static void describe(const lucent_scene *requested, const lucent_scene *s, const
     if (chosen)
         snprintf(choices, sizeof choices, "\"auto\":{%s},", chosen->decisions);
     stats->profile = integrated_profile(&s->material);
+    stats->single_scattering = s->single_scattering;
     snprintf(stats->modelled, sizeof stats->modelled,
              "{\"method\":\"%s\",\"backend\":\"%s\",\"device\":\"%s\",%s\"views\":%d,\"profile\":\"%s\","
              "\"subsurface\":\"%s\",\"samples_per_channel\":%d,"
@@ -294,6 +298,7 @@ static lucent_status render_reference(lucent_renderer *r, const lucent_scene *sc
         return st;
     stats->triangles = gm->mesh->triangle_count;
     stats->profile = integrated_profile(&scene->material);
+    stats->single_scattering = scene->single_scattering;
     snprintf(stats->modelled, sizeof stats->modelled,
              "{\"method\":\"reference\",\"backend\":\"cpu\",\"profile\":\"%s\",\"scale_mm\":%.9g,\"points\":%u,"
              "\"point_spacing_mm\":%.6g,"

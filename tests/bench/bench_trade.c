@@ -16,11 +16,10 @@
 #define N(a) (sizeof(a) / sizeof((a)[0]))
 
 /* A mode is a scene fragment added to the case (and a profile, DEFAULT: the scene's); one line here adds
- * it everywhere. Modes with single scattering are scored against a reference that has it too. */
+ * it everywhere. Frames with single scattering are scored against a reference that has it too. */
 struct mode {
     const char *name;
     const char *json;
-    int single_scattering;
     lucent_profile profile;
 };
 
@@ -48,22 +47,22 @@ static const struct light_case lights[] = {[LIGHT_FRONT] = {"front", "[0,0,-1]"}
 static const char *const materials[] = {"marble", "skin1", "skimmilk", "ketchup"};
 static const int sizes[] = {256, 512};
 static const struct mode modes[] = {
-    {"single", "\"method\":\"single\"", 0, LUCENT_PROFILE_DEFAULT},
-    {"five", "\"method\":\"five\"", 0, LUCENT_PROFILE_DEFAULT},
-    {"five per_channel", "\"method\":\"five\",\"sampling\":\"per_channel\"", 0, LUCENT_PROFILE_DEFAULT},
-    {"five samples 4", "\"method\":\"five\",\"samples\":4", 0, LUCENT_PROFILE_DEFAULT},
-    {"five samples 8", "\"method\":\"five\",\"samples\":8", 0, LUCENT_PROFILE_DEFAULT},
-    {"five samples 32", "\"method\":\"five\",\"samples\":32", 0, LUCENT_PROFILE_DEFAULT},
-    {"five samples 64", "\"method\":\"five\",\"samples\":64", 0, LUCENT_PROFILE_DEFAULT},
-    {"five projection 128", "\"method\":\"five\",\"projection_size\":128", 0, LUCENT_PROFILE_DEFAULT},
-    {"five projection 256", "\"method\":\"five\",\"projection_size\":256", 0, LUCENT_PROFILE_DEFAULT},
-    {"five projection 1024", "\"method\":\"five\",\"projection_size\":1024", 0, LUCENT_PROFILE_DEFAULT},
-    {"single samples 64", "\"method\":\"single\",\"samples\":64", 0, LUCENT_PROFILE_DEFAULT},
-    {"five fallback front", "\"method\":\"five\",\"fallback\":\"front\"", 0, LUCENT_PROFILE_DEFAULT},
-    {"auto", "\"method\":\"auto\"", 0, LUCENT_PROFILE_DEFAULT},
-    {"five single scattering", "\"method\":\"five\",\"single_scattering\":true", 1, LUCENT_PROFILE_DEFAULT},
-    {"five better_dipole", "\"method\":\"five\"", 0, LUCENT_PROFILE_BETTER_DIPOLE},
-    {"five burley", "\"method\":\"five\"", 0, LUCENT_PROFILE_BURLEY},
+    {"single", "\"method\":\"single\"", LUCENT_PROFILE_DEFAULT},
+    {"five", "\"method\":\"five\"", LUCENT_PROFILE_DEFAULT},
+    {"five per_channel", "\"method\":\"five\",\"sampling\":\"per_channel\"", LUCENT_PROFILE_DEFAULT},
+    {"five samples 4", "\"method\":\"five\",\"samples\":4", LUCENT_PROFILE_DEFAULT},
+    {"five samples 8", "\"method\":\"five\",\"samples\":8", LUCENT_PROFILE_DEFAULT},
+    {"five samples 32", "\"method\":\"five\",\"samples\":32", LUCENT_PROFILE_DEFAULT},
+    {"five samples 64", "\"method\":\"five\",\"samples\":64", LUCENT_PROFILE_DEFAULT},
+    {"five projection 128", "\"method\":\"five\",\"projection_size\":128", LUCENT_PROFILE_DEFAULT},
+    {"five projection 256", "\"method\":\"five\",\"projection_size\":256", LUCENT_PROFILE_DEFAULT},
+    {"five projection 1024", "\"method\":\"five\",\"projection_size\":1024", LUCENT_PROFILE_DEFAULT},
+    {"single samples 64", "\"method\":\"single\",\"samples\":64", LUCENT_PROFILE_DEFAULT},
+    {"five fallback front", "\"method\":\"five\",\"fallback\":\"front\"", LUCENT_PROFILE_DEFAULT},
+    {"auto", "\"method\":\"auto\"", LUCENT_PROFILE_DEFAULT},
+    {"five single scattering", "\"method\":\"five\",\"single_scattering\":true", LUCENT_PROFILE_DEFAULT},
+    {"five better_dipole", "\"method\":\"five\"", LUCENT_PROFILE_BETTER_DIPOLE},
+    {"five burley", "\"method\":\"five\"", LUCENT_PROFILE_BURLEY},
 };
 
 enum { MODES = (int)N(modes), CASES_PER_SIZE = (int)(N(meshes) * N(lights) * N(materials)) };
@@ -89,10 +88,12 @@ struct result {
     lucent_image_error path;  /* against method "path" (with --path) */
 };
 
-/* With --path, per case: the walks' own noise and time, and every profile's reference against them. */
+/* With --path, per case: the walks' own noise and time, and every profile's reference against them, and
+ * the dipole's with single scattering (Jensen et al.'s whole BSSRDF; the walks have every order). */
 struct path_case {
     double noise, ms;
     lucent_image_error reference[LUCENT_PROFILE_DEFAULT];
+    lucent_image_error reference_single;
 };
 
 /* One mode at one size, summarized over every case (medians). */
@@ -353,9 +354,9 @@ static lucent_status run_case(lucent_renderer *r, const struct options *o, int i
             s.material.profile = modes[m].profile;
         if (st == LUCENT_OK)
             st = measure(r, &s, o->frames, &last, &stats, &row[m], out->device, err);
-        lucent_image *reference = st == LUCENT_OK ? &ref[modes[m].single_scattering][stats.profile] : NULL;
+        lucent_image *reference = st == LUCENT_OK ? &ref[stats.single_scattering][stats.profile] : NULL;
         if (st == LUCENT_OK && !reference->rgba)
-            st = render_reference(r, o, index, modes[m].single_scattering, stats.profile, reference, err);
+            st = render_reference(r, o, index, stats.single_scattering, stats.profile, reference, err);
         if (st == LUCENT_OK)
             st = lucent_image_compare(&last, reference, &row[m].e, err);
         if (st == LUCENT_OK && o->path_walks)
@@ -370,6 +371,11 @@ static lucent_status run_case(lucent_renderer *r, const struct options *o, int i
         if (st == LUCENT_OK)
             st = lucent_image_compare(&ref[0][p], &path, &pc->reference[p], err);
     }
+    lucent_image *with_single = &ref[1][LUCENT_PROFILE_DIPOLE];
+    if (o->path_walks && st == LUCENT_OK && !with_single->rgba)
+        st = render_reference(r, o, index, 1, LUCENT_PROFILE_DIPOLE, with_single, err);
+    if (o->path_walks && st == LUCENT_OK)
+        st = lucent_image_compare(with_single, &path, &pc->reference_single, err);
     fflush(out->csv);
     for (int k = 0; k < 2 * LUCENT_PROFILE_DEFAULT; k++)
         lucent_image_free(&ref[k / LUCENT_PROFILE_DEFAULT][k % LUCENT_PROFILE_DEFAULT]);
@@ -539,7 +545,9 @@ static void write_path_row(FILE *csv, int index, const char *what, const char *p
 }
 
 /* One line of the table against path: medians over the selected cases of size z. what: a mode, or -1 - p
- * for profile p's reference, or -1 - LUCENT_PROFILE_DEFAULT for the walks themselves. */
+ * for profile p's reference, or WHAT_WALKS for the walks themselves, or WHAT_SINGLE for the dipole's
+ * reference with single scattering. */
+enum { WHAT_WALKS = -1 - LUCENT_PROFILE_DEFAULT, WHAT_SINGLE = -2 - LUCENT_PROFILE_DEFAULT };
 static void write_path_line(const struct options *o, const struct result *res, const struct path_case *pcs, int z,
                             int what, double *scratch, const struct outputs *out)
 {
@@ -549,8 +557,10 @@ static void write_path_line(const struct options *o, const struct result *res, c
         if (!case_selected(o, i))
             continue;
         const struct path_case *pc = &pcs[i];
-        const lucent_image_error *e = what >= 0 ? &res[i * MODES + what].path : &pc->reference[-1 - what];
-        int walks = what == -1 - LUCENT_PROFILE_DEFAULT;
+        const lucent_image_error *e = what >= 0             ? &res[i * MODES + what].path
+                                      : what == WHAT_SINGLE ? &pc->reference_single
+                                                            : &pc->reference[-1 - what];
+        int walks = what == WHAT_WALKS;
         ms[n] = what >= 0 ? res[i * MODES + what].ms[T_TOTAL] : walks ? pc->ms : 0.0;
         l2[n] = walks ? pc->noise : e->object.rel_l2;
         clean[n] = walks ? 0.0 : without_noise(e->object.rel_l2, pc->noise);
@@ -560,11 +570,13 @@ static void write_path_line(const struct options *o, const struct result *res, c
     char name[64];
     if (what >= 0)
         snprintf(name, sizeof name, "%s", modes[what].name);
-    else if (what == -1 - LUCENT_PROFILE_DEFAULT)
+    else if (what == WHAT_WALKS)
         snprintf(name, sizeof name, "path (its noise)");
+    else if (what == WHAT_SINGLE)
+        snprintf(name, sizeof name, "reference dipole + single scattering");
     else
         snprintf(name, sizeof name, "reference %s", lucent_profile_name((lucent_profile)(-1 - what)));
-    int timed = what >= 0 || what == -1 - LUCENT_PROFILE_DEFAULT;   /* the references are not timed here */
+    int timed = what >= 0 || what == WHAT_WALKS;   /* the references are not timed here */
     double median_ms = timed ? bench_median(ms, n) : 0.0, median_clean = bench_median(clean, n);
     char ms_text[32] = "-";
     if (timed)
@@ -592,6 +604,8 @@ static void write_path_report(const struct options *o, const struct result *res,
         for (int p = 0; p < LUCENT_PROFILE_DEFAULT; p++)
             write_path_row(out->path_csv, i, "reference", lucent_profile_name((lucent_profile)p), &pcs[i].reference[p],
                            &pcs[i], NAN);
+        write_path_row(out->path_csv, i, "reference single scattering", "dipole", &pcs[i].reference_single, &pcs[i],
+                       NAN);
     }
     emit(out->md, "\n## Against method \"path\" (%d walks a pixel and channel, boundary fresnel)\n\n"
                   "Medians over the same cases; \"w/o noise\" is sqrt(rel L2^2 - noise^2), the error left once the "
@@ -600,9 +614,10 @@ static void write_path_report(const struct options *o, const struct result *res,
     for (int z = 0; z < o->size_count; z++) {
         emit(out->md, "\n### %dx%d against path\n\n| mode | median ms | median rel L2 | median w/o noise "
                       "| median mean ratio |\n|---|---|---|---|---|\n", sizes[z], sizes[z]);
-        write_path_line(o, res, pcs, z, -1 - LUCENT_PROFILE_DEFAULT, scratch, out);
+        write_path_line(o, res, pcs, z, WHAT_WALKS, scratch, out);
         for (int p = 0; p < LUCENT_PROFILE_DEFAULT; p++)
             write_path_line(o, res, pcs, z, -1 - p, scratch, out);
+        write_path_line(o, res, pcs, z, WHAT_SINGLE, scratch, out);
         for (int m = 0; m < MODES; m++)
             if (o->modes & 1u << m)
                 write_path_line(o, res, pcs, z, m, scratch, out);

@@ -18,7 +18,7 @@
 set -euo pipefail
 
 prog=${0##*/}
-all_scenes="bunny_side cube_edge protrusion_side bunny_back cube_edge_skin1 sphere_side bunny_back_single"
+all_scenes="bunny_side cube_edge protrusion_side bunny_back cube_edge_skin1 sphere_side bunny_back_single bunny_back_ketchup"
 default_scenes="bunny_side cube_edge protrusion_side bunny_back"
 
 usage() {
@@ -52,6 +52,7 @@ Scenes (marble unless named; light "direction" is the way it travels; camera fro
   cube_edge_skin1  cube_edge in skin1 (short mean free path)
   sphere_side      builtin sphere, light [-1,0,0]; zoom: the terminator
   bunny_back_single  bunny in skin1 from behind with single scattering; zoom: the ears
+  bunny_back_ketchup bunny in ketchup from behind, single scattering not given (auto chooses); zoom: the ears
 EOF
 }
 die() { echo "$prog: $*" >&2; exit 2; }
@@ -157,6 +158,7 @@ scene_json() {  # scene_json NAME: the scene document without size and method (s
     protrusion_side) echo "\"mesh\":{\"builtin\":\"protrusion\"},\"material\":{\"preset\":\"marble\"},$side" ;;
     sphere_side) echo "\"mesh\":{\"builtin\":\"sphere\"},\"material\":{\"preset\":\"marble\"},$side" ;;
     bunny_back_single) echo "\"mesh\":{\"file\":\"$bunny\"},\"material\":{\"preset\":\"skin1\"},\"single_scattering\":true,\"lights\":[{\"direction\":[0,0,1]}]" ;;
+    bunny_back_ketchup) echo "\"mesh\":{\"file\":\"$bunny\"},\"material\":{\"preset\":\"ketchup\"},\"lights\":[{\"direction\":[0,0,1]}]" ;;
     esac
 }
 scene_zoom() {  # scene_zoom NAME: left and top of the zoomed third, as fractions of the image
@@ -167,6 +169,7 @@ scene_zoom() {  # scene_zoom NAME: left and top of the zoomed third, as fraction
     protrusion_side) echo "0.36 0.33" ;;
     sphere_side) echo "0.30 0.33" ;;
     bunny_back_single) echo "0.30 0.10" ;;
+    bunny_back_ketchup) echo "0.30 0.10" ;;
     esac
 }
 
