@@ -2,9 +2,9 @@
 # test_cli.sh - drives lucent-render as a user would: renders builtins and the bunny to PNG and EXR,
 # decodes the results with oiiotool, checks --stats, --compare, --backend and --device, and exit codes and
 # messages for bad input.
-# Every run goes through render(), which shows the run's whole standard error: cli_validated (the same
-# script under the validation layer) fails on any "vulkan validation" or "opengl validation" line, and the last
-# check here counts those lines too, so that a report cannot hide in a captured stream.
+# Every run goes through render(), which shows the run's whole standard error: ctest runs this script under the
+# validation layer and fails it on any "vulkan validation" or "opengl validation" line, and the last check
+# here counts those lines too, so that a report cannot hide in a captured stream.
 set -u
 bin=$1
 bunny=$2
