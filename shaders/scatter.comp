@@ -48,6 +48,7 @@ const bool TRANSMISSION = OWNED && VIEW_COUNT > CAMERA_VIEWS;
 // Distances along the view ray at which single scattering gathers light through the object
 // (single_through): per channel, fading with sigma_t, and shared, spread evenly.
 const int SINGLE_FADING_SAMPLES = 4, SINGLE_EVEN_SAMPLES = 8;
+const int UNSCATTERED_STEPS = 8, UNSCATTERED_HALVINGS = 6;   // finding where unscattered light enters
 // Views whose facing cosines differ by less than this are blended.
 const float VIEW_BLEND = 0.2;
 // A sample reads the mip level whose texels are half the side of the area it stands for: measured
@@ -568,6 +569,67 @@ vec3 single_through(int k, vec3 p, vec3 n, vec3 to_eye)
     return sum * frame.single_albedo.rgb * sigma_t * fresnel_transmittance(frame.params.x, dot(n, to_eye));
 }
 
+// How far x lies behind the surface view k sees at x's place (scene units along the view's direction; -1 where
+// the view holds no surface there), and that surface's texel.
+float behind_seen(int k, vec3 x, out vec4 texel)
+{
+    texel = covered_bilinear(k, texel_coord(k, x));
+    return texel.a < 0.0 ? -1.0 : view_depth(k, x) - texel.a;
+}
+
+// Light from light view k that crosses the medium unscattered along p's refracted view ray and meets the
+// surface the view sees, where it leaves as method path's walks leave (the adjoint of entering there and
+// crossing): through the Fresnel transmittance from inside, spread by the diffuse exit's weight. It is what
+// makes a thin part of an absorbing medium glow from behind (a ketchup bunny's ears).
+vec3 unscattered_through(int k, vec3 p, vec3 n, vec3 to_eye)
+{
+    if (visible_in(k, p, n) && view_score(k, n) > 0.0)
+        return vec3(0.0);
+    vec3 into = refract(-to_eye, n, 1.0 / frame.params.x);
+    float towards = -dot(into, frame.view_dir[k].xyz);
+    vec4 texel;
+    float behind = behind_seen(k, p, texel);
+    if (towards <= 0.1 || behind <= 0.0)
+        return vec3(0.0);
+    // The ray leaves where it stops being behind what the view sees: marched up to twice where a surface
+    // facing the ray squarely would be, then the step that crosses halved. One step from the flat estimate
+    // left a thin part the light meets at a grazing angle (a bunny's far ear) in total internal reflection.
+    float reach = 2.0 * behind / towards, lo = 0.0, hi = -1.0, behind_lo = behind, behind_hi = 0.0;
+    bool hi_seen = false;
+    for (int i = 1; i <= UNSCATTERED_STEPS && hi < 0.0; i++) {
+        float t = reach * float(i) / float(UNSCATTERED_STEPS), b = behind_seen(k, p + into * t, texel);
+        if (b > 0.0)
+            lo = t, behind_lo = b;
+        else
+            hi = t, behind_hi = b, hi_seen = texel.a >= 0.0;
+    }
+    if (hi < 0.0)
+        return vec3(0.0);
+    for (int i = 0; i < UNSCATTERED_HALVINGS; i++) {
+        float t = 0.5 * (lo + hi), b = behind_seen(k, p + into * t, texel);
+        if (b > 0.0)
+            lo = t, behind_lo = b;
+        else
+            hi = t, behind_hi = b, hi_seen = texel.a >= 0.0;
+    }
+    // Within the last step the surface is taken as flat where the view holds it on both sides.
+    float t = hi_seen ? mix(lo, hi, behind_lo / (behind_lo - behind_hi)) : 0.5 * (lo + hi);
+    vec2 at = texel_coord(k, p + into * lo);
+    texel = covered_bilinear(k, at);
+    ivec2 q = ivec2(floor(at));
+    vec3 ni = inside(k, q) ? texelFetch(projection_normals, ivec3(q, k), 0).xyz : vec3(0.0);
+    if (dot(ni, ni) == 0.0)
+        return vec3(0.0);
+    ni = normalize(ni);
+    float cos_i = view_score(k, ni), cos_y = dot(into, ni), k_in = 1.0 / frame.params.x;
+    if (cos_i <= 0.0 || cos_y <= 0.0 || k_in * k_in - 1.0 + cos_y * cos_y <= 0.0)
+        return vec3(0.0);   // total internal reflection: the ray does not leave there
+    // texel x cos_i: the light entering there per unit of surface, which is what the exit connects to.
+    float leave = fresnel_transmittance(k_in, cos_y) * frame.camera_eye.w;
+    return texel.rgb * (cos_i * leave * fresnel_transmittance(frame.params.x, dot(n, to_eye))) *
+           exp(-frame.single_sigma_t.rgb * (t * frame.params.y));
+}
+
 // The irradiance entering at p as view k saw it (its texel; 0 where the view does not see p).
 vec3 own_irradiance(int k, vec3 p, vec3 n)
 {
@@ -806,7 +868,7 @@ void compose_main()
         radiance += single_scattered(p, n, to_eye, irradiance);
     if (SINGLE_SCATTERING && TRANSMISSION)
         for (int k = CAMERA_VIEWS; k < VIEW_COUNT; k++)
-            radiance += single_through(k, p, n, to_eye);
+            radiance += single_through(k, p, n, to_eye) + unscattered_through(k, p, n, to_eye);
     out_color[idx] = vec4(radiance, 1.0);
     out_normal_view[idx] = vec4(n, float(k));
     out_depth[idx] = position_depth.w;

@@ -337,19 +337,20 @@ static void check_far_blocks(lucent_renderer *r)
 
 /* Method auto's profile when none is given: the dipole under every light (README: against method path, with
  * R between points of the surface it is the nearest under side and back light), and the one given when
- * one is. Its single scattering: on where light enters behind an absorbing object (against path, the dipole
- * alone misses skin1's and ketchup's light scattered once on its way through), off behind a white one
- * (marble: its diffusion is already too bright there) and elsewhere, as given when given. */
+ * one is. Its single scattering: on where light enters behind a strongly absorbing object (against path, the
+ * dipole alone misses ketchup's light scattered once or not at all on its way through), off behind a scattering
+ * one (skin1, marble: diffusion already has about all of it) and elsewhere, as given when given. */
 static void check_auto_profile(lucent_renderer *r)
 {
     static const struct { const char *preset, *light, *want, *given, *single_reason; int single; } cases[] = {
         {"skin1", "[-1,0,0]", "dipole", "", "no light enters behind", 0},
         {"skin1", "[0,0,-1]", "dipole", "", "no light enters behind", 0},
-        {"skin1", "[0,0,1]", "dipole", "", "light enters behind an absorbing medium", 1},
-        {"skin1", "[-0.766,0,0.643]", "dipole", "", "light enters behind an absorbing medium", 1},
-        {"marble", "[0,0,1]", "dipole", "", "light enters behind a white medium", 0},
+        {"ketchup", "[0,0,1]", "dipole", "", "light enters behind an absorbing medium", 1},
+        {"ketchup", "[-0.766,0,0.643]", "dipole", "", "light enters behind an absorbing medium", 1},
+        {"skin1", "[0,0,1]", "dipole", "", "light enters behind a scattering medium", 0},
+        {"marble", "[0,0,1]", "dipole", "", "light enters behind a scattering medium", 0},
         {"skin1", "[-1,0,0]", "burley", ",\"profile\":\"burley\"", "no light enters behind", 0}};
-    for (int i = 0; i < 6; i++) {
+    for (int i = 0; i < (int)(sizeof cases / sizeof cases[0]); i++) {
         char json[300], want[64];
         snprintf(json, sizeof json,
                  "{\"mesh\":{\"builtin\":\"sphere\"},\"material\":{\"preset\":\"%s\"%s},\"lights\":[{\"direction\":%s}],"
@@ -375,7 +376,7 @@ static void check_auto_profile(lucent_renderer *r)
     lucent_image img;
     lucent_stats stats;
     test_render(r,
-                "{\"mesh\":{\"builtin\":\"sphere\"},\"material\":{\"preset\":\"skin1\"},\"lights\":[{\"direction\":[0,0,1]}],"
+                "{\"mesh\":{\"builtin\":\"sphere\"},\"material\":{\"preset\":\"ketchup\"},\"lights\":[{\"direction\":[0,0,1]}],"
                 "\"camera\":{\"direction\":[0,0,-1]},\"width\":24,\"height\":24,\"method\":\"auto\","
                 "\"single_scattering\":false}",
                 &img, &stats);

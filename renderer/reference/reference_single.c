@@ -1,5 +1,5 @@
-/* reference_single.c - the single-scattering ground truth: no flat-surface assumption, true path lengths
- * to the surface by ray casting, Jensen 2001's refraction correction of the light path, shadow rays. */
+/* reference_single.c - the low-order ground truth: light scattered once (no flat-surface assumption, true path
+ * lengths by ray casting, Jensen 2001's refraction correction, shadow rays) and light crossing unscattered. */
 #include "reference_single.h"
 
 #include "dipole.h"
@@ -66,6 +66,32 @@ static void lit_from(const struct single_scatter *ss, const struct ref_light *li
         out[c] = light->rgb[c] * phase * fluence * exp(-ss->sigma_t[c] * path_mm);
 }
 
+/* Light that crosses the medium unscattered along the refracted view ray `into` and meets the surface at
+ * `exit` (t_mm in), where it leaves as method path's walks leave: with probability 1 - F from inside, spread
+ * over the outside hemisphere (diffuse_exit_weight), lit by each light through the entry Fresnel term. */
+static void unscattered(const struct single_scatter *ss, const double into[3], const struct bvh_hit *exit,
+                        double t_mm, double out[3])
+{
+    double y[3], n[3], g[3], origin[3], lit[3] = {0.0, 0.0, 0.0};
+    out[0] = out[1] = out[2] = 0.0;
+    mesh_surface_at(ss->mesh, exit->triangle, exit->u, exit->v, y, n, g);
+    if (v3_dot(g, into) < 0.0)   /* outward is the way the ray goes */
+        for (int a = 0; a < 3; a++)
+            n[a] = -n[a], g[a] = -g[a];
+    double cos_y = v3_dot(into, n) > 0.0 ? v3_dot(into, n) : v3_dot(into, g);
+    double leave = 1.0 - fresnel_internal_reflectance(ss->eta, cos_y);
+    if (leave <= 0.0)
+        return;
+    v3_scale_add(y, g, RAY_OFFSET * ss->mesh->radius, origin);
+    for (int l = 0; l < ss->light_count; l++) {
+        double cos_l, arrival = ref_light_arrival(&ss->lights[l], ss->bvh, ss->shadows, y, n, origin, &cos_l);
+        for (int c = 0; c < 3 && arrival > 0.0; c++)
+            lit[c] += ss->lights[l].rgb[c] * arrival * fresnel_transmittance(ss->eta, cos_l);
+    }
+    for (int c = 0; c < 3; c++)
+        out[c] = leave * diffuse_exit_weight(ss->eta) * lit[c] * exp(-ss->sigma_t[c] * t_mm);
+}
+
 void single_scatter_radiance(const struct single_scatter *ss, const double p[3], const double n[3],
                              const double g[3], const double to_eye[3], double out[3])
 {
@@ -80,7 +106,10 @@ void single_scatter_radiance(const struct single_scatter *ss, const double p[3],
         out_dir[a] = -into[a];            /* light travels the other way, towards the eye */
     v3_scale_add(p, g, -RAY_OFFSET * ss->mesh->radius, start);
     struct bvh_hit exit;
+    double crossed[3] = {0.0, 0.0, 0.0};   /* the light that crosses unscattered */
     double t_exit_mm = bvh_closest(ss->bvh, start, into, INFINITY, &exit) ? exit.t * ss->scale_mm : INFINITY;
+    if (isfinite(t_exit_mm))
+        unscattered(ss, into, &exit, t_exit_mm, crossed);
     for (int c = 0; c < 3; c++) {
         /* Distances stratified over e^(-sigma_t s) on [0, t_exit]: the estimate of the integral of
          * sigma_s L(s) e^(-sigma_t s) ds is sum_j sigma_s L(s_j) mass / (n sigma_t). */
@@ -94,6 +123,7 @@ void single_scatter_radiance(const struct single_scatter *ss, const double p[3],
             }
             out[c] += ss->sigma_s[c] * sum * mass / (PATH_SAMPLES * st);
         }
+        out[c] += crossed[c];
         out[c] *= fresnel_transmittance(ss->eta, cos_o);
     }
 }
