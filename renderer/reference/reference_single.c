@@ -9,7 +9,7 @@
 #include <float.h>
 #include <math.h>
 
-/* Stratified distances along the refracted view ray, per channel. */
+/* Stratified distances along the refracted view ray, per channel and again spread evenly. */
 #define PATH_SAMPLES 16
 /* Rays start this far (times the mesh radius) off the surface so they miss their own triangle. */
 #define RAY_OFFSET 1e-6
@@ -92,6 +92,41 @@ static void unscattered(const struct single_scatter *ss, const double into[3], c
         out[c] = leave * diffuse_exit_weight(ss->eta) * lit[c] * exp(-ss->sigma_t[c] * t_mm);
 }
 
+/* The integral of sigma_s L(s) e^(-sigma_t s) over [0, t_exit] along the refracted view ray, per channel:
+ * PATH_SAMPLES distances stratified over e^(-sigma_t s) per channel (light entering near the point) and as many
+ * spread evenly up to the exit, shared by the channels (light entering far along it: from behind, L(s) grows as
+ * e^(sigma_t s), and e^(-sigma_t s) alone left ketchup's blue 10% dark through a 3 mm slab), combined by the
+ * balance heuristic. */
+static void scattered_along(const struct single_scatter *ss, const double start[3], const double into[3],
+                            const double out_dir[3], double t_exit_mm, double out[3])
+{
+    int even = isfinite(t_exit_mm) ? PATH_SAMPLES : 0;
+    out[0] = out[1] = out[2] = 0.0;
+    for (int set = 0; set < 3 + (even > 0); set++) {   /* 0..2: that channel's e^(-sigma_t s); 3: even */
+        if (set < 3 && ss->sigma_t[set] <= 0.0)
+            continue;
+        double mass = set < 3 ? -expm1(-ss->sigma_t[set] * t_exit_mm) : 0.0;
+        for (int j = 0; j < PATH_SAMPLES; j++) {
+            double u = (j + 0.5) / PATH_SAMPLES, x[3], lit[3], sum[3] = {0.0, 0.0, 0.0};
+            double s_mm = set < 3 ? -log1p(-u * mass) / ss->sigma_t[set] : u * t_exit_mm;
+            v3_scale_add(start, into, s_mm / ss->scale_mm, x);
+            for (int l = 0; l < ss->light_count; l++) {
+                lit_from(ss, &ss->lights[l], x, out_dir, lit);
+                for (int c = 0; c < 3; c++)
+                    sum[c] += lit[c];
+            }
+            for (int c = 0; c < 3; c++) {
+                double st = ss->sigma_t[c];
+                if ((set < 3 && c != set) || st <= 0.0)
+                    continue;
+                double fade = exp(-st * s_mm), channel_mass = -expm1(-st * t_exit_mm);
+                double density = PATH_SAMPLES * st * fade / channel_mass + (even ? even / t_exit_mm : 0.0);
+                out[c] += ss->sigma_s[c] * sum[c] * fade / density;
+            }
+        }
+    }
+}
+
 void single_scatter_radiance(const struct single_scatter *ss, const double p[3], const double n[3],
                              const double g[3], const double to_eye[3], double out[3])
 {
@@ -110,20 +145,7 @@ void single_scatter_radiance(const struct single_scatter *ss, const double p[3],
     double t_exit_mm = bvh_closest(ss->bvh, start, into, INFINITY, &exit) ? exit.t * ss->scale_mm : INFINITY;
     if (isfinite(t_exit_mm))
         unscattered(ss, into, &exit, t_exit_mm, crossed);
-    for (int c = 0; c < 3; c++) {
-        /* Distances stratified over e^(-sigma_t s) on [0, t_exit]: the estimate of the integral of
-         * sigma_s L(s) e^(-sigma_t s) ds is sum_j sigma_s L(s_j) mass / (n sigma_t). */
-        double st = ss->sigma_t[c], mass = -expm1(-st * t_exit_mm);
-        for (int j = 0; j < PATH_SAMPLES; j++) {
-            double s_mm = -log1p(-(j + 0.5) / PATH_SAMPLES * mass) / st, x[3], lit[3], sum = 0.0;
-            v3_scale_add(start, into, s_mm / ss->scale_mm, x);
-            for (int l = 0; l < ss->light_count; l++) {
-                lit_from(ss, &ss->lights[l], x, out_dir, lit);
-                sum += lit[c];
-            }
-            out[c] += ss->sigma_s[c] * sum * mass / (PATH_SAMPLES * st);
-        }
-        out[c] += crossed[c];
-        out[c] *= fresnel_transmittance(ss->eta, cos_o);
-    }
+    scattered_along(ss, start, into, out_dir, t_exit_mm, out);
+    for (int c = 0; c < 3; c++)
+        out[c] = (out[c] + crossed[c]) * fresnel_transmittance(ss->eta, cos_o);
 }
