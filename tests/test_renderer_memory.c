@@ -159,6 +159,11 @@ int main(void)
      * 23 MiB, measured; it never frees JIT memory pools; here the checks above have re-created one
      * already); from then on create/destroy must be flat. */
     printf("     renderer 2 ends %.2f MiB above renderer 1\n", end[1] - end[0]);
-    test_check(end[2] - end[1] < 2.0, "renderer 3 ends %.2f MiB above renderer 2 (limit 2)", end[2] - end[1]);
+    /* Levels over frames 190..199 (one sample at the end swings 1.6 MiB), against the higher of the two before:
+     * OpenGL's driver ended renderer 2 5.5 MiB below renderer 1 and renderer 3 3.9 MiB above renderer 2 on a CI
+     * machine, still below renderer 1: refilled caches, not a leak. */
+    double before = fmax(late[0], late[1]);
+    test_check(late[2] - before < 2.0, "renderer 3 over frames 190..199 is %.2f MiB above the higher of renderers 1 "
+               "and 2 (limit 2)", late[2] - before);
     return test_finish();
 }
