@@ -577,6 +577,19 @@ float behind_seen(int k, vec3 x, out vec4 texel)
     return texel.a < 0.0 ? -1.0 : view_depth(k, x) - texel.a;
 }
 
+// One step of the search for where a ray leaves (unscattered_through): the point t along it is tested, and
+// becomes the bracket's near end (still behind what view k sees; its texel kept) or its far end.
+void exit_bracket(int k, vec3 p, vec3 into, float t, inout float lo, inout float behind_lo, inout vec4 texel_lo,
+                  inout float hi, inout float behind_hi, inout bool hi_seen)
+{
+    vec4 texel;
+    float b = behind_seen(k, p + into * t, texel);
+    if (b > 0.0)
+        lo = t, behind_lo = b, texel_lo = texel;
+    else
+        hi = t, behind_hi = b, hi_seen = texel.a >= 0.0;
+}
+
 // Light from light view k that crosses the medium unscattered along p's refracted view ray and meets the
 // surface the view sees, where it leaves as method path's walks leave (the adjoint of entering there and
 // crossing): through the Fresnel transmittance from inside, spread by the diffuse exit's weight. It is what
@@ -596,27 +609,16 @@ vec3 unscattered_through(int k, vec3 p, vec3 n, vec3 to_eye)
     // left a thin part the light meets at a grazing angle (a bunny's far ear) in total internal reflection.
     float reach = 2.0 * behind / towards, lo = 0.0, hi = -1.0, behind_lo = behind, behind_hi = 0.0;
     bool hi_seen = false;
-    for (int i = 1; i <= UNSCATTERED_STEPS && hi < 0.0; i++) {
-        float t = reach * float(i) / float(UNSCATTERED_STEPS), b = behind_seen(k, p + into * t, texel);
-        if (b > 0.0)
-            lo = t, behind_lo = b;
-        else
-            hi = t, behind_hi = b, hi_seen = texel.a >= 0.0;
-    }
+    for (int i = 1; i <= UNSCATTERED_STEPS && hi < 0.0; i++)
+        exit_bracket(k, p, into, reach * float(i) / float(UNSCATTERED_STEPS), lo, behind_lo, texel, hi, behind_hi,
+                     hi_seen);
     if (hi < 0.0)
         return vec3(0.0);
-    for (int i = 0; i < UNSCATTERED_HALVINGS; i++) {
-        float t = 0.5 * (lo + hi), b = behind_seen(k, p + into * t, texel);
-        if (b > 0.0)
-            lo = t, behind_lo = b;
-        else
-            hi = t, behind_hi = b, hi_seen = texel.a >= 0.0;
-    }
+    for (int i = 0; i < UNSCATTERED_HALVINGS; i++)
+        exit_bracket(k, p, into, 0.5 * (lo + hi), lo, behind_lo, texel, hi, behind_hi, hi_seen);
     // Within the last step the surface is taken as flat where the view holds it on both sides.
     float t = hi_seen ? mix(lo, hi, behind_lo / (behind_lo - behind_hi)) : 0.5 * (lo + hi);
-    vec2 at = texel_coord(k, p + into * lo);
-    texel = covered_bilinear(k, at);
-    ivec2 q = ivec2(floor(at));
+    ivec2 q = ivec2(floor(texel_coord(k, p + into * lo)));
     vec3 ni = inside(k, q) ? texelFetch(projection_normals, ivec3(q, k), 0).xyz : vec3(0.0);
     if (dot(ni, ni) == 0.0)
         return vec3(0.0);

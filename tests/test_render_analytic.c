@@ -194,7 +194,7 @@ static void check_slab_transmission(lucent_renderer *r, const char *method, cons
     double got[3], ft = fresnel_transmittance(m.eta, 1.0);
     double hg = single ? (1.0 + g) / (4.0 * PI * (1.0 - g) * (1.0 - g)) : 0.0;   /* p_HG(g, mu = 1) */
     centre_radiance(&img, got);
-    int light_view = strcmp(method, "five") || strstr(stats.modelled, "\"transmission\":[\"light view\"]");
+    int back_seen = strcmp(method, "five") || strstr(stats.modelled, "\"transmission\":[\"light view\"]");
     for (int c = 0; c < 3; c++) {
         struct profile d;
         double sigma_s = m.sigma_s_prime[c] / (1.0 - (single ? g : 0.0)), sigma_t = sigma_s + m.sigma_a[c];
@@ -204,11 +204,11 @@ static void check_slab_transmission(lucent_renderer *r, const char *method, cons
         double crossed = single ? ft * ft * ft * diffuse_exit_weight(m.eta) * exp(-sigma_t * thick_mm) : 0.0;
         double want = ft * ft * through * diffuse_exit_weight(m.eta) + once + crossed;
         double rel = fabs(got[c] - want) / want;
-        test_check(light_view && rel < tolerance,
+        test_check(back_seen && rel < tolerance,
                    "3 mm %-8s slab lit from behind, %s%s ch%d: centre %.6g, expected %.6g (single scattering "
                    "%.3g, unscattered %.3g), rel.err %.2e (tol %.2g)%s", preset, method,
                    single ? ", single scattering" : "", c, got[c], want, once, crossed, rel, tolerance,
-                   light_view ? "" : "; no light view in modelled");
+                   back_seen ? "" : "; no light view in modelled");
     }
     lucent_image_free(&img);
     unlink(slab);

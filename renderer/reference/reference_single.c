@@ -101,14 +101,16 @@ static void scattered_along(const struct single_scatter *ss, const double start[
                             const double out_dir[3], double t_exit_mm, double out[3])
 {
     int even = isfinite(t_exit_mm) ? PATH_SAMPLES : 0;
+    double mass[3];   /* of sigma_t e^(-sigma_t s) on [0, t_exit], per channel */
+    for (int c = 0; c < 3; c++)
+        mass[c] = -expm1(-ss->sigma_t[c] * t_exit_mm);
     out[0] = out[1] = out[2] = 0.0;
     for (int set = 0; set < 3 + (even > 0); set++) {   /* 0..2: that channel's e^(-sigma_t s); 3: even */
         if (set < 3 && ss->sigma_t[set] <= 0.0)
             continue;
-        double mass = set < 3 ? -expm1(-ss->sigma_t[set] * t_exit_mm) : 0.0;
         for (int j = 0; j < PATH_SAMPLES; j++) {
             double u = (j + 0.5) / PATH_SAMPLES, x[3], lit[3], sum[3] = {0.0, 0.0, 0.0};
-            double s_mm = set < 3 ? -log1p(-u * mass) / ss->sigma_t[set] : u * t_exit_mm;
+            double s_mm = set < 3 ? -log1p(-u * mass[set]) / ss->sigma_t[set] : u * t_exit_mm;
             v3_scale_add(start, into, s_mm / ss->scale_mm, x);
             for (int l = 0; l < ss->light_count; l++) {
                 lit_from(ss, &ss->lights[l], x, out_dir, lit);
@@ -119,8 +121,8 @@ static void scattered_along(const struct single_scatter *ss, const double start[
                 double st = ss->sigma_t[c];
                 if ((set < 3 && c != set) || st <= 0.0)
                     continue;
-                double fade = exp(-st * s_mm), channel_mass = -expm1(-st * t_exit_mm);
-                double density = PATH_SAMPLES * st * fade / channel_mass + (even ? even / t_exit_mm : 0.0);
+                double fade = exp(-st * s_mm);
+                double density = PATH_SAMPLES * st * fade / mass[c] + (even ? even / t_exit_mm : 0.0);
                 out[c] += ss->sigma_s[c] * sum[c] * fade / density;
             }
         }
