@@ -6,6 +6,10 @@
 #define MAX_SAMPLES 64
 #define NEAR_TABLE 17          // FRAME_NEAR_TABLE
 #define THROUGH_SAMPLES 16     // FRAME_THROUGH_SAMPLES
+#define SPHERE_TABLE_T 24      // sphere_diffusion.h: sigma_tr a, log-spaced over SPHERE_T_MIN..SPHERE_T_MAX
+#define SPHERE_TABLE_G 24      // the angle between the normals, 0..pi
+#define SPHERE_T_MIN 0.02
+#define SPHERE_T_MAX 16.0
 #define PI 3.14159265358979
 // Texel footprint on the surface grows as 1/cos to the view; past this cosine the estimate is
 // dominated by noise from grazing texels that other views cover better. FRAME_MIN_AREA_COS.
@@ -49,6 +53,9 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     // light views add where they do not see the point: light through the object arrives from where
     // the surface profile's samples are sparse, where the far side comes closest (a sphere's rim).
     vec4 through[THROUGH_SAMPLES];
+    // Diffusion in a sphere over R between points, channel c's factor at t index i and angle index j:
+    // element (c * SPHERE_TABLE_T + i) * SPHERE_TABLE_G + j, four to a row (1 where the profile has no sources).
+    vec4 sphere_factor[3 * SPHERE_TABLE_T * SPHERE_TABLE_G / 4];
 } frame;
 
 // Unpolarized Fresnel transmittance entering a medium of relative index eta >= 1.

@@ -195,8 +195,59 @@ Sources place_sources(int c, vec3 d, vec3 n_out, vec3 n_in)
     return q;
 }
 
+// The exit point's mean curvature (1/mm; 0 flat or concave), set by far_main and compose_main.
+float exit_curvature_mm = 0.0;
+
+float sphere_table(int c, int i, int j)
+{
+    int e = (c * SPHERE_TABLE_T + i) * SPHERE_TABLE_G + j;
+    return frame.sphere_factor[e >> 2][e & 3];
+}
+
+// Diffusion in the sphere through both points over R between them, weighted by how much the exit's surface
+// curves like that sphere (C: sphere_factor, where the reasons are).
+float sphere_factor(int c, vec3 d, vec3 n_out, vec3 n_in)
+{
+    float depth = 0.5 * (dot(d, n_out) - dot(d, n_in)), len_in = length(n_in);
+    if (exit_curvature_mm <= 0.0 || depth <= 0.0 || len_in <= 0.0)
+        return 1.0;
+    float a = dot(d, d) / (2.0 * depth), weight = min(exit_curvature_mm * a, 1.0);
+    float t = clamp(frame.profile_sigma[0][c] * a, SPHERE_T_MIN, SPHERE_T_MAX);
+    float u = log(t / SPHERE_T_MIN) / log(SPHERE_T_MAX / SPHERE_T_MIN) * float(SPHERE_TABLE_T - 1);
+    float v = acos(clamp(dot(n_in, n_out) / len_in, -1.0, 1.0)) / PI * float(SPHERE_TABLE_G - 1);
+    int i = min(int(u), SPHERE_TABLE_T - 2), j = min(int(v), SPHERE_TABLE_G - 2);
+    float fu = u - float(i), fv = v - float(j);
+    float f = mix(mix(sphere_table(c, i, j), sphere_table(c, i, j + 1), fv),
+                  mix(sphere_table(c, i + 1, j), sphere_table(c, i + 1, j + 1), fv), fu);
+    return 1.0 + weight * (f - 1.0);
+}
+
+// How fast the G-buffer's normals turn across the surface at px (C: mesh_curvature, per triangle there):
+// (n_q - n) . (p_q - p) / |p_q - p|^2 over the four neighbours on the same smooth surface (facing alike,
+// lying near p's tangent plane), in 1/mm; 0 where none is.
+float gbuffer_curvature(ivec2 px, vec3 p, vec3 n)
+{
+    float sum = 0.0;
+    int count = 0;
+    const ivec2 steps[4] = ivec2[4](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
+    for (int s = 0; s < 4; s++) {
+        ivec2 q = px + steps[s];
+        if (q.x < 0 || q.y < 0 || q.x >= push.size.x || q.y >= push.size.y)
+            continue;
+        vec4 nq = texelFetch(gbuffer_normal, q, 0);
+        vec3 e = texelFetch(gbuffer_position, q, 0).xyz - p;
+        float ee = dot(e, e);
+        if (nq.w == 0.0 || ee <= 0.0 || dot(normalize(nq.xyz), n) < 0.5 || abs(dot(e, n)) > 0.5 * sqrt(ee))
+            continue;
+        sum += dot(normalize(nq.xyz) - n, e) / ee;
+        count++;
+    }
+    return count > 0 ? max(sum / float(count), 0.0) / frame.params.y : 0.0;
+}
+
 // R of channel c from light entering with normal n_in at d (mm) from the exit point of normal n_out:
-// both sources and their images across the exit's boundary, their light through the exit's tangent plane.
+// both sources and their images across the exit's boundary, their light through the exit's tangent plane,
+// times the sphere's factor where the surface curves around them.
 float profile_rd_between(int c, vec3 d, vec3 n_out, vec3 n_in)
 {
     float z0 = frame.profile_z[0][c], z1 = frame.profile_z[1][c];
@@ -210,7 +261,7 @@ float profile_rd_between(int c, vec3 d, vec3 n_out, vec3 n_in)
     float i0 = q.h0 + 2.0 * q.zb, i1 = q.h1 - 2.0 * q.zb;   // the exit's images
     sum += q.w * (source_term(-q.a0, q.c0, q.s0, i0, max(sqrt(across0 + i0 * i0), 1e-12)) +
                   source_term(-q.a1, q.c1, q.s1, i1, max(sqrt(across1 + i1 * i1), z0)));
-    return max(sum, 0.0);
+    return max(sum, 0.0) * sphere_factor(c, d, n_out, n_in);
 }
 
 vec3 profile_rd_between3(vec3 d, vec3 n_out, vec3 n_in)
@@ -288,6 +339,7 @@ vec3 rd_disc_between(float radius, vec3 d, vec3 n_out, vec3 n_in)
                  source_disc(q.a1, q.c1, q.s1, q.h1, radius, z1) +
                  q.w * (source_disc(-q.a0, q.c0, q.s0, q.h0 + 2.0 * q.zb, radius, 1e-12) +
                         source_disc(-q.a1, q.c1, q.s1, q.h1 - 2.0 * q.zb, radius, z0));
+        sum[c] *= sphere_factor(c, d, n_out, n_in);
     }
     return max(sum, vec3(0.0));
 }
@@ -739,6 +791,7 @@ void far_main()
     }
     vec3 p = texelFetch(gbuffer_position, px, 0).xyz;
     vec3 n = normalize(texelFetch(gbuffer_normal, px, 0).xyz);
+    exit_curvature_mm = gbuffer_curvature(px, p, n);
     far_samples[idx] = FarSample(vec4(far_light(p, n, bp), uintBitsToFloat(packSnorm2x16(octahedral(n)))),
                                  vec4(p, float(px.x + 4096 * px.y)));
 }
@@ -854,6 +907,7 @@ void compose_main()
     vec4 position_depth = texelFetch(gbuffer_position, px, 0);
     vec3 p = position_depth.xyz;
     vec3 n = normalize(normal_coverage.xyz);
+    exit_curvature_mm = gbuffer_curvature(px, p, n);
     int k = choose_view(p, n, -1), k2;
     float w2 = second_view(p, n, k, k2);
     vec3 irradiance = own_irradiance(k, p, n), near = rd_near(view_score(k, n));

@@ -32,6 +32,7 @@ int main(void)
     MEMBER(samples);
     MEMBER(through_pdf);
     MEMBER(through);
+    MEMBER(sphere_factor);
     printf("(size) %zu\n", sizeof(struct frame_uniforms));
     return 0;
 }

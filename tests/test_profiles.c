@@ -8,6 +8,7 @@
 #include "lucent.h"
 #include "normalized_diffusion.h"
 #include "profile.h"
+#include "sphere_diffusion.h"
 #include "test_support.h"
 
 #include <math.h>
@@ -336,6 +337,93 @@ static void curved_surfaces(void)
 }
 
 /* Every profile at the parser's extremes: finite, non-negative, and a usable sampling table. */
+/* Light of a dipole's real source z_r inside a sphere of radius a leaving it anywhere: the spherically symmetric
+ * solution of the diffusion equation with phi = 0 at a + z_b, -4 pi a^2 D phi'(a) for the source's power
+ * alpha' = sigma_s' / sigma_t' (u = r phi is sinh inside the source's shell and outside it):
+ * alpha' sinh(s r0) (s a cosh(s z_b) + sinh(s z_b)) / (s r0 sinh(s (a + z_b))), r0 = a - z_r. */
+static double sphere_total_closed_form(double sigma_a, double sigma_s_prime, const struct profile *p, double a)
+{
+    double s = p->sigma[0], r0 = a - p->z[0], zb = 0.5 * (p->z[1] - p->z[0]);
+    double alpha = sigma_s_prime / (sigma_a + sigma_s_prime);
+    return alpha * sinh(s * r0) * (s * a * cosh(s * zb) + sinh(s * zb)) / (s * r0 * sinh(s * (a + zb)));
+}
+
+/* The sphere's exitance integrated over the sphere: 2 pi a^2 integral of J over cos gamma, on angles spaced
+ * quadratically (J peaks within z_r / a of gamma = 0). */
+static double sphere_total(const struct profile *p, double a)
+{
+    enum { N = 6000 };
+    static double cos_g[N], j[N];
+    lucent_error err;
+    for (int i = 0; i < N; i++) {
+        double u = (i + 0.5) / N;
+        cos_g[i] = cos(PI * u * u);
+    }
+    if (sphere_exitance(p, a, N, cos_g, j, &err) != LUCENT_OK)
+        return NAN;
+    double sum = 0.0;
+    for (int i = 0; i < N; i++) {
+        double u = (i + 0.5) / N, g = PI * u * u;
+        sum += 2.0 * PI * a * a * j[i] * sin(g) * 2.0 * PI * u / N;
+    }
+    return sum;
+}
+
+static void sphere_diffusion(void)
+{
+    const char *names[] = {"marble red", "skim milk green", "skin1 red"};
+    const double sa[] = {0.0021, 0.0025, 0.032}, ss[] = {2.19, 1.22, 0.74}, eta[] = {1.5, 1.3, 1.3};
+    for (int m = 0; m < 3; m++) {
+        struct profile p;
+        lucent_error err;
+        dipole_classic(&p, sa[m], ss[m], eta[m]);
+        /* the total against the closed form, at radii from 2 to 60 diffusion lengths */
+        double worst = 0.0;
+        for (double t = 2.0; t < 100.0; t *= 5.5) {
+            double a = t / p.sigma[0] < 5.0 * p.z[1] ? 5.0 * p.z[1] : t / p.sigma[0];
+            double got = sphere_total(&p, a), want = sphere_total_closed_form(sa[m], ss[m], &p, a);
+            worst = fmax(worst, fabs(got - want) / want);
+            printf("     %-15s a %7.2f mm: light leaving the sphere %.6f, closed form %.6f\n", names[m], a, got, want);
+        }
+        test_check(worst < 1e-3, "%s: the sphere's exitance integrates to the closed form of its total (%.1e, tol 1e-3)",
+                   names[m], worst);
+        /* a large sphere is the plane near the source: the difference halves as the radius doubles */
+        double radii[4] = {0.5, 1.0, 2.0, 4.0}, cos_g[4], j[4], off[2] = {0.0, 0.0};
+        int ok = 1;
+        for (int k = 0; k < 2; k++) {
+            double a = (k ? 600.0 : 300.0) * p.z[0];
+            for (int i = 0; i < 4; i++)
+                cos_g[i] = cos(2.0 * asin(radii[i] * p.z[0] / (2.0 * a)));
+            ok &= sphere_exitance(&p, a, 4, cos_g, j, &err) == LUCENT_OK;
+            for (int i = 0; i < 4; i++)
+                off[k] = fmax(off[k], fabs(j[i] / profile_rd(&p, radii[i] * p.z[0]) - 1.0));
+        }
+        test_check(ok && off[1] < 1e-2 && close_to(off[0] / off[1], 2.0, 0.05),
+                   "%s: spheres 300 and 600 z_r in radius give the planar R(r) at r = 0.5..4 z_r within %.1e and "
+                   "%.1e (tol 1e-2 at 600; halving: x%.3f, tol 5%%)", names[m], off[0], off[1], off[0] / off[1]);
+        /* the factor on R between points */
+        struct sphere_table table;
+        ok = sphere_table_init(&table, &p, &err) == LUCENT_OK;
+        double r = 1.0 / p.sigma[0] * 3.0, n_out[3] = {0.0, 0.0, 1.0}, n_in[3] = {0.0, 0.0, -1.0};
+        double through[3] = {0.0, 0.0, 2.0 * r}, beside[3] = {r, 0.0, 0.0}, n_side[3] = {1.0, 0.0, 0.0};
+        double f_pole = sphere_factor(&table, through, n_out, n_in, 1.0 / r);
+        double cos_pole = -1.0, exact;
+        ok &= sphere_exitance(&p, r, 1, &cos_pole, &exact, &err) == LUCENT_OK;
+        double want_pole = exact / profile_rd_between(&p, through, n_out, n_in);
+        double d_side[3] = {r, 0.0, r}, n_eq[3] = {-1.0, 0.0, 0.0};   /* the exit's pole from the equator */
+        double f_flat = sphere_factor(&table, through, n_out, n_in, 0.0), f_plane = sphere_factor(&table, beside, n_out, n_out, 1.0 / r);
+        double f_concave = sphere_factor(&table, d_side, n_out, n_side, 1.0 / r);
+        double f_half = sphere_factor(&table, through, n_out, n_in, 0.5 / r), f_eq = sphere_factor(&table, d_side, n_out, n_eq, 1.0 / r);
+        printf("     %-15s a = 3 / sigma_tr: pole to pole %.4f (diffusion in the sphere over R between points %.4f), "
+               "equator to pole %.4f, half the curvature %.4f; flat exit %.4f, one plane %.4f, concave %.4f\n",
+               names[m], f_pole, want_pole, f_eq, f_half, f_flat, f_plane, f_concave);
+        test_check(ok && close_to(f_pole, want_pole, 2e-2) && f_flat == 1.0 && f_plane == 1.0 && f_concave == 1.0 &&
+                   close_to(f_half, 0.5 * (1.0 + f_pole), 1e-12) && f_eq > 0.0 && f_eq < 1.0,
+                   "%s: sphere_factor is diffusion in the sphere over R between points through it (2e-2), 1 on a "
+                   "flat exit, on one plane and where the surface is concave, half-way at half the curvature", names[m]);
+    }
+}
+
 static void extremes(void)
 {
     const double sa[] = {0.0, 1e-6, 1e5, 0.0, 1e5}, ss[] = {1e-6, 1e5, 1e-6, 1e5, 1e5};
@@ -358,6 +446,21 @@ static void extremes(void)
         }
         test_check(fine, "%s: finite, non-negative and at most 1 at sigma 0 .. 1e5 and eta 1 .. 3", profile_names[kind]);
     }
+    int fine = 1;
+    for (int m = 0; m < 5; m++) {
+        struct profile p;
+        struct sphere_table table;
+        lucent_error err;
+        dipole_classic(&p, sa[m], ss[m], eta[m]);
+        fine &= sphere_table_init(&table, &p, &err) == LUCENT_OK;
+        for (int i = 0; i < SPHERE_TABLE_T; i++)
+            for (int j = 0; j < SPHERE_TABLE_G; j++)
+                fine &= isfinite(table.factor[i][j]) && table.factor[i][j] >= 0.0f && table.factor[i][j] < 2.0f;
+        double d[3] = {0.0, 0.0, 1e-3 / p.sigma_t_prime}, n_out[3] = {0.0, 0.0, 1.0}, n_in[3] = {0.0, 0.0, -1.0};
+        double f = sphere_factor(&table, d, n_out, n_in, 1e3 * p.sigma_t_prime);
+        fine &= isfinite(f) && f >= 0.0;
+    }
+    test_check(fine, "sphere tables: finite, non-negative and below 2 at sigma 0 .. 1e5 and eta 1 .. 3");
 }
 
 int main(void)
@@ -369,6 +472,7 @@ int main(void)
     normalized_diffusion();
     closed_forms();
     curved_surfaces();
+    sphere_diffusion();
     extremes();
     return test_finish();
 }

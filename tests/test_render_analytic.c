@@ -6,6 +6,7 @@
  * is about twice the worst error measured (in the comment beside it). */
 #include "dipole.h"
 #include "profile.h"
+#include "sphere_diffusion.h"
 #include "flat_cube.h"
 #include "test_support.h"
 
@@ -24,6 +25,11 @@
 #define SINGLE_REFERENCE_TOL 4e-3  /* single scattering, ray-marched reference: 1.9e-3 */
 #define SLAB_TOL 0.02            /* light through a 3 mm slab lit from behind (light view), any order: 6.3e-3 */
 #define SLAB_REFERENCE_TOL 5e-3  /* the same, the reference's: 1.0e-3 */
+#define SPHERE_REFERENCE_TOL 1.5e-2  /* a 50 mm sphere lit from behind, the front pole: 6.7e-3 */
+/* five's light view there, within [low, high] of it: 0.43-0.93 (the faint light through 50 mm comes from
+ * the grazing rim of the light view; without the sphere's factor red was 1.4x) */
+#define SPHERE_FIVE_LOW 0.35
+#define SPHERE_FIVE_HIGH 1.1
 
 static double expected_radiance(const lucent_material *m, int c, double irradiance)
 {
@@ -214,6 +220,51 @@ static void check_slab_transmission(lucent_renderer *r, const char *method, cons
     unlink(slab);
 }
 
+/* A sphere 50 mm across lit from behind, seen from the front: at the front pole, the light its dipole sources
+ * inside the lit hemisphere send through the sphere. Diffusion solved in the sphere itself (sphere_exitance: a
+ * Legendre series, not R between points) integrated over the lit hemisphere, E cos Ft(cos) dA, times the exit's
+ * Ft(1) diffuse_exit_weight. R between points alone gave the reference 1.3-1.9x this (its medium is the region
+ * under both points' tangent planes, which loses no light through the sides). */
+static void check_sphere_back_lit(lucent_renderer *r, const char *method, const char *preset, double low, double high)
+{
+    enum { STEPS = 2000 };
+    const double radius_mm = 25.0;
+    char json[600];
+    snprintf(json, sizeof json,
+             "{\"mesh\":{\"builtin\":\"sphere\"},\"material\":{\"preset\":\"%s\"},"
+             "\"lights\":[{\"direction\":[0,0,1],\"intensity\":1}],\"camera\":{\"direction\":[0,0,-1]},"
+             "\"width\":65,\"height\":65,\"method\":\"%s\"}", preset, method);
+    lucent_image img;
+    lucent_stats stats;
+    test_render(r, json, &img, &stats);
+    lucent_material m;
+    lucent_material_preset(preset, &m);
+    double got[3], cos_in[STEPS], exitance[STEPS], ft = fresnel_transmittance(m.eta, 1.0);
+    centre_radiance(&img, got);
+    for (int i = 0; i < STEPS; i++)
+        cos_in[i] = -cos(0.5 * PI * (1.0 + (i + 0.5) / STEPS));   /* the entry's normal against the exit's, negated */
+    for (int c = 0; c < 3; c++) {
+        struct profile d;
+        lucent_error err;
+        dipole_classic(&d, m.sigma_a[c], m.sigma_s_prime[c], m.eta);
+        double gamma_cos[STEPS], sum = 0.0;
+        for (int i = 0; i < STEPS; i++)
+            gamma_cos[i] = -cos_in[i];
+        test_check(sphere_exitance(&d, radius_mm, STEPS, gamma_cos, exitance, &err) == LUCENT_OK,
+                   "sphere_exitance for %s ch%d", preset, c);
+        for (int i = 0; i < STEPS; i++) {
+            double theta = 0.5 * PI * (1.0 + (i + 0.5) / STEPS);
+            sum += 2.0 * PI * radius_mm * radius_mm * sin(theta) * cos_in[i] * fresnel_transmittance(m.eta, cos_in[i]) *
+                   exitance[i] * (0.5 * PI / STEPS);
+        }
+        double want = sum * ft * diffuse_exit_weight(m.eta), ratio = got[c] / want;
+        test_check(ratio > low && ratio < high, "50 mm %-8s sphere lit from behind, %s ch%d: front pole %.6g, "
+                   "diffusion in the sphere %.6g, ratio %.4f (within %.4g..%.4g)", preset, method, c, got[c], want,
+                   ratio, low, high);
+    }
+    lucent_image_free(&img);
+}
+
 int main(void)
 {
     lucent_renderer *r = test_renderer();
@@ -247,6 +298,10 @@ int main(void)
     check_slab_transmission(r, "five", "ketchup", 1, SLAB_TOL);
     check_slab_transmission(r, "reference", "skin1", 0, SLAB_REFERENCE_TOL);
     check_slab_transmission(r, "reference", "ketchup", 1, SLAB_REFERENCE_TOL);
+    check_sphere_back_lit(r, "reference", "marble", 1.0 - SPHERE_REFERENCE_TOL, 1.0 + SPHERE_REFERENCE_TOL);
+    check_sphere_back_lit(r, "reference", "skimmilk", 1.0 - SPHERE_REFERENCE_TOL, 1.0 + SPHERE_REFERENCE_TOL);
+    check_sphere_back_lit(r, "five", "marble", SPHERE_FIVE_LOW, SPHERE_FIVE_HIGH);
+    check_sphere_back_lit(r, "five", "skimmilk", SPHERE_FIVE_LOW, SPHERE_FIVE_HIGH);
     lucent_renderer_destroy(r);
     unlink(square);
     return test_finish();

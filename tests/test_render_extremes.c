@@ -165,8 +165,9 @@ static const struct extreme cases[] = {
     SPHERE_CASE(SPHERE_OPEN, 1.0, 0.0, 0.0346, 0.0389, 0.0258), /* open: half a sphere */
     SPHERE_CASE(SPHERE_INSIDE_OUT, 1.0, 0.0, 0.0352, 0.0383, 0.026),     /* every face wound inward */
     SPHERE_CASE(SPHERE_FLIPPED_NORMALS, 1.0, 0.0, 0.0352, 0.0383, 0.026),
-    /* one pixel, whose centre ray once slipped through the BVH */
-    {.fields = SIDE_LIGHT, .irradiance = 1.0, .measured = {0.0572, 0.0557, 0.00829}, .side = 1},
+    /* one pixel, whose centre ray once slipped through the BVH; auto 0.00829 until diffusion in a sphere: one
+     * pixel has no neighbours for the fast methods' curvature, the reference takes the mesh's */
+    {.fields = SIDE_LIGHT, .irradiance = 1.0, .measured = {0.0572, 0.0557, 0.031}, .side = 1},
     /* method auto chooses its own samples: not run */
     {.fields = "\"mesh\":{\"builtin\":\"torus\",\"triangles\":1000},\"samples\":1,\"projection_size\":16",
      .irradiance = 1.0, .allowance = ONE_SAMPLE_ALLOWANCE, .measured = {0.522, 0.601, NAN}},

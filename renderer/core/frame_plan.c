@@ -374,8 +374,19 @@ static double camera_pixel_mm(const lucent_scene *s, const struct frame_plan *pl
     return 2.0 * v3_length(plan->camera.eye) * plan->camera.half_h / s->height * plan->scale_mm;
 }
 
-static void plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
-                          struct frame_plan *plan)
+/* The sphere tables' factors in the block's rows of four (frame_uniforms.h). */
+static void copy_sphere_factors(const struct sphere_tables *t, struct frame_uniforms *u)
+{
+    float *out = &u->sphere_factor[0][0];
+    for (int c = 0; c < 3; c++)
+        for (int i = 0; i < SPHERE_TABLE_T; i++)
+            for (int j = 0; j < SPHERE_TABLE_G; j++)
+                out[(c * SPHERE_TABLE_T + i) * SPHERE_TABLE_G + j] =
+                    t->channel[c].sources ? t->channel[c].factor[i][j] : 1.0f;
+}
+
+static lucent_status plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
+                                   struct sphere_tables *sphere, struct frame_plan *plan, lucent_error *err)
 {
     struct frame_uniforms *u = &plan->uniforms;
     /* Light cannot travel further than across the object; truncating the profile there keeps
@@ -407,6 +418,10 @@ static void plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
         u->single_albedo[c] = (float)(sigma_s / (sigma_s + s->material.sigma_a[c]));
         u->single_sigma_t[c] = (float)(sigma_s + s->material.sigma_a[c]);
     }
+    lucent_status st = sphere_tables_for(sphere, d, err);
+    if (st != LUCENT_OK)
+        return st;
+    copy_sphere_factors(sphere, u);
     u->rd_total[3] = (float)r_near;
     u->single_albedo[3] = (float)g;
     u->camera_eye[3] = (float)diffuse_exit_weight(s->material.eta);
@@ -423,12 +438,13 @@ static void plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,
     u->owned[2] = (float)fmin(fmax(sigma_min, FRAME_DEPTH_RATE_MIN / view_radius), FRAME_DEPTH_RATE_MAX / view_radius);
     u->owned[3] = (float)(2.0 * view_radius);
     if (plan->scatter_samples == 0)
-        return;
+        return LUCENT_OK;
     if (s->sampling == LUCENT_SAMPLING_SHARED)
         shared_samples(d, r_near, r_max, plan->scatter_samples, u);
     else
         per_channel_samples(d, r_near, r_max, plan->scatter_samples, u);
     through_samples(d, r_near, r_max, frame_through_samples(plan->far_block), u);
+    return LUCENT_OK;
 }
 
 int frame_far_block(int width, int height)
@@ -467,7 +483,8 @@ int frame_side_projection_size(const lucent_scene *scene)
 }
 
 lucent_status frame_plan_build(const lucent_scene *scene, const struct lucent_mesh *mesh,
-                               double proxy_tolerance, int diffuse_limit, struct frame_plan *plan, lucent_error *err)
+                               double proxy_tolerance, int diffuse_limit, struct sphere_tables *sphere,
+                               struct frame_plan *plan, lucent_error *err)
 {
     memset(plan, 0, sizeof *plan);
     plan->scatter_samples = diffuse_limit ? 0 : scene->samples;
@@ -481,7 +498,8 @@ lucent_status frame_plan_build(const lucent_scene *scene, const struct lucent_me
     plan_views(scene, &cam, mesh->radius * FRAME_FIT_MARGIN, plan);
     plan_light_views(scene, mesh, &cam, mesh->radius * FRAME_FIT_MARGIN, plan);
     plan_lights(scene, mesh, proxy_tolerance, plan);
-    plan_material(scene, mesh, plan);
+    if ((st = plan_material(scene, mesh, sphere, plan, err)) != LUCENT_OK)
+        return st;
     struct frame_uniforms *u = &plan->uniforms;
     u->owned[1] = (float)plan->view_count;
     u->params[0] = (float)scene->material.eta;

@@ -100,9 +100,10 @@ int frame_side_projection_size(const lucent_scene *scene);
 
 /* proxy_tolerance: how far (scene units) the projection passes' geometry may stray from the
  * camera's (a simplified proxy mesh), widening the visibility test. diffuse_limit: replace the
- * sampled sum by the point's irradiance times the integral of R_d (method auto decides). */
+ * sampled sum by the point's irradiance times the integral of R_d (method auto decides). sphere: the
+ * caller's tables of diffusion in a sphere, refilled when the material changes. */
 lucent_status frame_plan_build(const lucent_scene *scene, const struct lucent_mesh *mesh,
-                               double proxy_tolerance, int diffuse_limit, struct frame_plan *plan,
-                               lucent_error *err);
+                               double proxy_tolerance, int diffuse_limit, struct sphere_tables *sphere,
+                               struct frame_plan *plan, lucent_error *err);
 
 #endif

@@ -4,6 +4,7 @@
 #define LUCENT_FRAME_UNIFORMS_H
 
 #include "lucent.h"
+#include "sphere_diffusion.h"
 
 /* The camera's five views (front, then four sides), then up to FRAME_LIGHT_VIEWS views along lights
  * whose light enters where no camera view faces the surface (transmission, frame_plan.c). */
@@ -46,6 +47,9 @@ struct frame_uniforms {
     float samples[3 * LUCENT_MAX_SAMPLES][4];
     float through_pdf[4];
     float through[FRAME_THROUGH_SAMPLES][4];
+    /* Diffusion in a sphere over R between points (sphere_diffusion.h): channel c's factor at t index i and
+     * normals' angle index j is element (c * SPHERE_TABLE_T + i) * SPHERE_TABLE_G + j, four to a row. */
+    float sphere_factor[3 * SPHERE_TABLE_T * SPHERE_TABLE_G / 4][4];
 };
 
 #endif

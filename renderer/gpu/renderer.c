@@ -20,6 +20,7 @@ struct lucent_renderer {
     struct mesh_cache meshes;
     struct frame_plan plan;   /* rebuilt every frame; lives here to keep 4 KB of samples off the stack */
     struct auto_plan chosen;  /* method "auto": the scene actually rendered */
+    struct sphere_tables sphere;   /* the last material's tables of diffusion in a sphere */
     atomic_int cancel;        /* set by lucent_render_cancel from any thread */
     int verbose;
 };
@@ -380,7 +381,7 @@ lucent_status lucent_render(lucent_renderer *r, const lucent_scene *scene, lucen
     stats->ms_mesh_load += now_ms() - t_proxies;
     int proxied = gm->proxies[PROXY_FRONT].triangles || gm->proxies[PROXY_SIDES].triangles;
     double tolerance = proxied ? PROXY_TOLERANCE * gm->mesh->radius : 0.0;
-    if ((st = frame_plan_build(s, gm->mesh, tolerance, chosen && chosen->diffuse_limit, plan, err)))
+    if ((st = frame_plan_build(s, gm->mesh, tolerance, chosen && chosen->diffuse_limit, &r->sphere, plan, err)))
         return st;
     struct gpu_frame frame = {plan, (uint32_t)s->width, (uint32_t)s->height, (uint32_t)s->projection_size,
                               (uint32_t)plan->side_projection_size, (struct gpu_draw){gm->full.gpu, gm->full.index_count},

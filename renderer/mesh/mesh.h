@@ -44,5 +44,8 @@ void mesh_vertex(const struct lucent_mesh *m, uint32_t t, int k, double out[3]);
  * normal at barycentrics (b1, b2) of triangle t. */
 void mesh_surface_at(const struct lucent_mesh *m, uint32_t t, double b1, double b2, double p[3], double n[3],
                      double g[3]);
+/* How fast triangle t's vertex normals turn along its edges, (n_j - n_i) . e / |e|^2 averaged over the three
+ * edges (1 / scene units): 1 / radius on a sphere, 0 on a flat face, negative where the surface is concave. */
+double mesh_curvature(const struct lucent_mesh *m, uint32_t t);
 
 #endif

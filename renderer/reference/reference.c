@@ -9,6 +9,7 @@
 #include "visible_point.h"
 #include "dipole.h"
 #include "profile.h"
+#include "sphere_diffusion.h"
 #include "linalg.h"
 
 #include <float.h>
@@ -52,6 +53,7 @@ struct context {
     const struct view_frame *camera;
     struct bvh *bvh;
     struct profile profile[3];
+    struct sphere_tables sphere;   /* diffusion in a sphere over R between points */
     double scale_mm, threshold, eta;
     double exit_weight;      /* sr^-1: diffuse_exit_weight(eta) */
     double near_radius;      /* scene units: points closer than this are integrated as a disc */
@@ -329,8 +331,15 @@ struct near_disc {
     uint32_t count;
 };
 
-static void sum_points(const struct context *ctx, const double x[3], const double n[3], size_t first, size_t end,
-                       double sum[3], struct near_disc *near)
+/* The light from an irradiance point (or a far group's centroid) d away, with normal n_in, to the exit. */
+static double kernel(const struct context *ctx, int c, const double d[3], const double n[3], const double n_in[3],
+                     double curvature_mm)
+{
+    return profile_rd_between(&ctx->profile[c], d, n, n_in) * sphere_factor(&ctx->sphere.channel[c], d, n, n_in, curvature_mm);
+}
+
+static void sum_points(const struct context *ctx, const double x[3], const double n[3], double curvature_mm,
+                       size_t first, size_t end, double sum[3], struct near_disc *near)
 {
     for (size_t i = first; i < end; i++) {
         const double *f = &ctx->flux[i * 3];
@@ -345,7 +354,7 @@ static void sum_points(const struct context *ctx, const double x[3], const doubl
             continue;
         }
         for (int c = 0; c < 3; c++)
-            sum[c] += f[c] * profile_rd_between(&ctx->profile[c], d, n, &ctx->normal[i * 3]);
+            sum[c] += f[c] * kernel(ctx, c, d, n, &ctx->normal[i * 3], curvature_mm);
     }
 }
 
@@ -372,8 +381,8 @@ static double box_distance(const struct point_node *n, const double x[3])
 
 /* Jensen & Buhler 2002: far nodes count as their flux at their centroid. A node holding x is at
  * distance 0 and is always opened. */
-static void sum_tree(const struct context *ctx, const double x[3], const double n[3], double sum[3],
-                     struct near_disc *near)
+static void sum_tree(const struct context *ctx, const double x[3], const double n[3], double curvature_mm,
+                     double sum[3], struct near_disc *near)
 {
     uint32_t stack[MAX_TREE_DEPTH + 2];
     int top = 0;
@@ -389,10 +398,10 @@ static void sum_tree(const struct context *ctx, const double x[3], const double 
                 if (node->flux[c] > 0.0) {
                     double d[3];
                     offset_mm(ctx, x, node->centroid[c], d);
-                    sum[c] += node->flux[c] * profile_rd_between(&ctx->profile[c], d, n, node->normal);
+                    sum[c] += node->flux[c] * kernel(ctx, c, d, n, node->normal, curvature_mm);
                 }
         } else if (node->count > 0) {
-            sum_points(ctx, x, n, node->first, (size_t)node->first + node->count, sum, near);
+            sum_points(ctx, x, n, curvature_mm, node->first, (size_t)node->first + node->count, sum, near);
         } else {
             stack[top++] = node->first;
             stack[top++] = index + 1;
@@ -408,10 +417,11 @@ static void shade_pixel(struct context *ctx, int x, int y)
     if (!visible_point_at(ctx->camera, ctx->bvh, ctx->mesh, x, y, img->width, img->height, &v))
         return;
     struct near_disc near = {{0.0, 0.0, 0.0}, 0};
+    double curvature_mm = v.curvature / ctx->scale_mm;
     if (ctx->brute_force)
-        sum_points(ctx, v.p, v.n, 0, ctx->point_count, sum, &near);
+        sum_points(ctx, v.p, v.n, curvature_mm, 0, ctx->point_count, sum, &near);
     else
-        sum_tree(ctx, v.p, v.n, sum, &near);
+        sum_tree(ctx, v.p, v.n, curvature_mm, sum, &near);
     add_near_disc(ctx, &near, sum);
     double k = fresnel_transmittance(ctx->eta, -v3_dot(v.n, v.dir)) * ctx->exit_weight, single[3] = {0.0, 0.0, 0.0};
     if (ctx->single) {
@@ -518,7 +528,8 @@ lucent_status reference_render(const lucent_scene *scene, const struct lucent_me
     ctx.shadows = !mesh->convex;
     int threads = parallel_threads(options->threads);
     double t0 = now_ms();
-    if ((st = set_up_lights(&ctx, err)) || (st = cumulative_area(&ctx, err)) ||
+    if ((st = sphere_tables_for(&ctx.sphere, ctx.profile, err)) || (st = set_up_lights(&ctx, err)) ||
+        (st = cumulative_area(&ctx, err)) ||
         (st = choose_point_count(&ctx, options->points, err)) || (st = bvh_build(mesh, &ctx.bvh, err)) ||
         (st = alloc_points(&ctx, err)))
         goto fail;

@@ -12,9 +12,12 @@ int visible_point_at(const struct view_frame *camera, const struct bvh *bvh, con
     if (!bvh_closest(bvh, camera->eye, out->dir, INFINITY, &hit))
         return 0;
     mesh_surface_at(mesh, hit.triangle, hit.u, hit.v, out->p, out->n, out->g);
-    if (v3_dot(out->g, out->dir) > 0.0)
+    out->curvature = mesh_curvature(mesh, hit.triangle);
+    if (v3_dot(out->g, out->dir) > 0.0) {
         for (int a = 0; a < 3; a++)
             out->n[a] = -out->n[a], out->g[a] = -out->g[a];
+        out->curvature = -out->curvature;
+    }
     out->t = hit.t;
     return 1;
 }

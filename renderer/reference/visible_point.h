@@ -13,6 +13,7 @@ struct visible_point {
     double p[3];     /* the point hit */
     double n[3], g[3];   /* shading and geometric normals, both turned to face the camera */
     double t;        /* distance from the eye */
+    double curvature;   /* mesh_curvature of the triangle hit, signed for the side facing the camera */
 };
 
 /* 1 and *out when pixel (x, y) of a width x height image sees the mesh; 0 on the background. A back face

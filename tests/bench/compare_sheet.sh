@@ -18,7 +18,7 @@
 set -euo pipefail
 
 prog=${0##*/}
-all_scenes="bunny_side cube_edge protrusion_side bunny_back cube_edge_skin1 sphere_side bunny_back_single bunny_back_ketchup"
+all_scenes="bunny_side cube_edge protrusion_side bunny_back cube_edge_skin1 sphere_side bunny_back_single bunny_back_ketchup sphere_back_skimmilk"
 default_scenes="bunny_side cube_edge protrusion_side bunny_back"
 
 usage() {
@@ -159,6 +159,7 @@ scene_json() {  # scene_json NAME: the scene document without size and method (s
     sphere_side) echo "\"mesh\":{\"builtin\":\"sphere\"},\"material\":{\"preset\":\"marble\"},$side" ;;
     bunny_back_single) echo "\"mesh\":{\"file\":\"$bunny\"},\"material\":{\"preset\":\"skin1\"},\"single_scattering\":true,\"lights\":[{\"direction\":[0,0,1]}]" ;;
     bunny_back_ketchup) echo "\"mesh\":{\"file\":\"$bunny\"},\"material\":{\"preset\":\"ketchup\"},\"lights\":[{\"direction\":[0,0,1]}]" ;;
+    sphere_back_skimmilk) echo "\"mesh\":{\"builtin\":\"sphere\"},\"material\":{\"preset\":\"skimmilk\"},\"lights\":[{\"direction\":[0,0,1]}]" ;;
     esac
 }
 scene_zoom() {  # scene_zoom NAME: left and top of the zoomed third, as fractions of the image
@@ -170,6 +171,7 @@ scene_zoom() {  # scene_zoom NAME: left and top of the zoomed third, as fraction
     sphere_side) echo "0.30 0.33" ;;
     bunny_back_single) echo "0.30 0.10" ;;
     bunny_back_ketchup) echo "0.30 0.10" ;;
+    sphere_back_skimmilk) echo "0.60 0.33" ;;   # the rim, where the light through the sphere comes out
     esac
 }
 
