@@ -27,8 +27,8 @@ struct sphere_tables {
 
 /* Light leaving a sphere of radius a_mm at angle gamma from where it entered, mm^-2: the dipole's real
  * source z_r inside the entry point, Dirichlet at radius a + z_b, the flux through the surface. Equal to
- * the profile's R(r) as a grows (the plane). Sums up to 30 a / z_r Legendre terms: slow, for tables and
- * tests. p must be the classical dipole. */
+ * the profile's R(r) as a grows (the plane). Sums 20 a / z_r Legendre terms, at most 16384 (radii over
+ * about 800 z_r are summed short): slow, for tables and tests. p must be the classical dipole. */
 lucent_status sphere_exitance(const struct profile *p, double a_mm, int count, const double *cos_gamma,
                               double *out, lucent_error *err);
 /* Fills t for one channel's profile (milliseconds). */
