@@ -381,8 +381,7 @@ static void copy_sphere_factors(const struct sphere_tables *t, struct frame_unif
     for (int c = 0; c < 3; c++)
         for (int i = 0; i < SPHERE_TABLE_T; i++)
             for (int j = 0; j < SPHERE_TABLE_G; j++)
-                out[(c * SPHERE_TABLE_T + i) * SPHERE_TABLE_G + j] =
-                    t->channel[c].sources ? t->channel[c].factor[i][j] : 1.0f;
+                out[(c * SPHERE_TABLE_T + i) * SPHERE_TABLE_G + j] = t->channel[c].factor[i][j];
 }
 
 static lucent_status plan_material(const lucent_scene *s, const struct lucent_mesh *mesh,

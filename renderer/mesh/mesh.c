@@ -358,19 +358,27 @@ void mesh_vertex(const struct lucent_mesh *m, uint32_t t, int k, double out[3])
     out[0] = p[0], out[1] = p[1], out[2] = p[2];
 }
 
-void mesh_surface_at(const struct lucent_mesh *m, uint32_t t, double b1, double b2, double p[3], double n[3],
-                     double g[3])
+/* Triangle t's vertices and its winding's normal (not normalized). */
+static void triangle_corners(const struct lucent_mesh *m, uint32_t t, double v[3][3], double g[3])
 {
-    double v[3][3], e1[3], e2[3], w[3] = {1.0 - b1 - b2, b1, b2};
+    double e1[3], e2[3];
     for (int k = 0; k < 3; k++)
         mesh_vertex(m, t, k, v[k]);
     for (int a = 0; a < 3; a++) {
         e1[a] = v[1][a] - v[0][a];
         e2[a] = v[2][a] - v[0][a];
-        p[a] = n[a] = 0.0;
     }
     v3_cross(e1, e2, g);
+}
+
+void mesh_surface_at(const struct lucent_mesh *m, uint32_t t, double b1, double b2, double p[3], double n[3],
+                     double g[3])
+{
+    double v[3][3], w[3] = {1.0 - b1 - b2, b1, b2};
+    triangle_corners(m, t, v, g);
     v3_normalize(g);
+    for (int a = 0; a < 3; a++)
+        p[a] = n[a] = 0.0;
     for (int k = 0; k < 3; k++) {
         const float *vn = &m->normals[(size_t)m->indices[(size_t)t * 3 + k] * 3];
         for (int a = 0; a < 3; a++) {
@@ -386,19 +394,13 @@ void mesh_surface_at(const struct lucent_mesh *m, uint32_t t, double b1, double 
 
 double mesh_curvature(const struct lucent_mesh *m, uint32_t t)
 {
-    double v[3][3], n[3][3], e1[3], e2[3], g[3], facing = 0.0, sum = 0.0;
+    double v[3][3], n[3][3], g[3], facing = 0.0, sum = 0.0;
+    triangle_corners(m, t, v, g);
     for (int k = 0; k < 3; k++) {
-        mesh_vertex(m, t, k, v[k]);
         const float *vn = &m->normals[(size_t)m->indices[(size_t)t * 3 + k] * 3];
         n[k][0] = vn[0], n[k][1] = vn[1], n[k][2] = vn[2];
-    }
-    for (int a = 0; a < 3; a++) {
-        e1[a] = v[1][a] - v[0][a];
-        e2[a] = v[2][a] - v[0][a];
-    }
-    v3_cross(e1, e2, g);
-    for (int k = 0; k < 3; k++)
         facing += v3_dot(n[k], g);
+    }
     for (int k = 0; k < 3; k++) {
         const double *a = v[k], *b = v[(k + 1) % 3], *na = n[k], *nb = n[(k + 1) % 3];
         double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, dn[3] = {nb[0] - na[0], nb[1] - na[1], nb[2] - na[2]};
