@@ -6,12 +6,12 @@
 #include "frame.glsl"
 PUSH_CONSTANTS Push { int view_base; } push;
 layout(location = 0) in vec3 in_position;
-layout(location = 1) in vec3 in_normal;
+layout(location = 1) in vec4 in_normal_curvature;   // w unused here
 layout(location = 0) out vec3 v_position;
 layout(location = 1) out vec3 v_normal;
 void main()
 {
     v_position = in_position;
-    v_normal = in_normal;
+    v_normal = in_normal_curvature.xyz;
     gl_Position = frame.view_clip[VIEW_INDEX + push.view_base] * vec4(in_position, 1.0);
 }

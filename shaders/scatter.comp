@@ -222,27 +222,11 @@ float sphere_factor(int c, vec3 d, vec3 n_out, vec3 n_in)
     return 1.0 + weight * (f - 1.0);
 }
 
-// How fast the G-buffer's normals turn across the surface at px (C: mesh_curvature, per triangle there):
-// (n_q - n) . (p_q - p) / |p_q - p|^2 over the four neighbours on the same smooth surface (facing alike,
-// lying near p's tangent plane), in 1/mm; 0 where none is.
-float gbuffer_curvature(ivec2 px, vec3 p, vec3 n)
+// The surface's convex curvature at a pixel in 1/mm, as the G-buffer's coverage holds it (1 + curvature in
+// 1 / scene units: mesh_vertex_curvature, interpolated; 0 where concave), as the reference takes it.
+float gbuffer_curvature(vec4 normal_coverage)
 {
-    float sum = 0.0;
-    int count = 0;
-    const ivec2 steps[4] = ivec2[4](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
-    for (int s = 0; s < 4; s++) {
-        ivec2 q = px + steps[s];
-        if (q.x < 0 || q.y < 0 || q.x >= push.size.x || q.y >= push.size.y)
-            continue;
-        vec4 nq = texelFetch(gbuffer_normal, q, 0);
-        vec3 e = texelFetch(gbuffer_position, q, 0).xyz - p;
-        float ee = dot(e, e);
-        if (nq.w == 0.0 || ee <= 0.0 || dot(normalize(nq.xyz), n) < 0.5 || abs(dot(e, n)) > 0.5 * sqrt(ee))
-            continue;
-        sum += dot(normalize(nq.xyz) - n, e) / ee;
-        count++;
-    }
-    return count > 0 ? max(sum / float(count), 0.0) / frame.params.y : 0.0;
+    return max(normal_coverage.w - 1.0, 0.0) / frame.params.y;
 }
 
 // R of channel c from light entering with normal n_in at d (mm) from the exit point of normal n_out:
@@ -790,8 +774,9 @@ void far_main()
         return;
     }
     vec3 p = texelFetch(gbuffer_position, px, 0).xyz;
-    vec3 n = normalize(texelFetch(gbuffer_normal, px, 0).xyz);
-    exit_curvature_mm = gbuffer_curvature(px, p, n);
+    vec4 normal_coverage = texelFetch(gbuffer_normal, px, 0);
+    vec3 n = normalize(normal_coverage.xyz);
+    exit_curvature_mm = gbuffer_curvature(normal_coverage);
     far_samples[idx] = FarSample(vec4(far_light(p, n, bp), uintBitsToFloat(packSnorm2x16(octahedral(n)))),
                                  vec4(p, float(px.x + 4096 * px.y)));
 }
@@ -907,7 +892,7 @@ void compose_main()
     vec4 position_depth = texelFetch(gbuffer_position, px, 0);
     vec3 p = position_depth.xyz;
     vec3 n = normalize(normal_coverage.xyz);
-    exit_curvature_mm = gbuffer_curvature(px, p, n);
+    exit_curvature_mm = gbuffer_curvature(normal_coverage);
     int k = choose_view(p, n, -1), k2;
     float w2 = second_view(p, n, k, k2);
     vec3 irradiance = own_irradiance(k, p, n), near = rd_near(view_score(k, n));

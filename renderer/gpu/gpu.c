@@ -47,12 +47,12 @@ lucent_status gpu_settle(struct gpu *gpu, lucent_error *err)
     return gpu->ops->settle(gpu, err);
 }
 
-lucent_status gpu_geometry_upload(struct gpu *gpu, const float *positions, const float *normals, uint32_t vertex_count,
+lucent_status gpu_geometry_upload(struct gpu *gpu, const float *positions, const float *shading, uint32_t vertex_count,
                                   const uint32_t *indices, uint32_t index_count, struct gpu_geometry **out,
                                   uint64_t *bytes, lucent_error *err)
 {
-    *bytes = (uint64_t)vertex_count * 24 + (uint64_t)index_count * 4;
-    return gpu->ops->geometry_upload(gpu, positions, normals, vertex_count, indices, index_count, out, err);
+    *bytes = (uint64_t)vertex_count * 28 + (uint64_t)index_count * 4;
+    return gpu->ops->geometry_upload(gpu, positions, shading, vertex_count, indices, index_count, out, err);
 }
 
 void gpu_geometry_free(struct gpu *gpu, struct gpu_geometry *g)

@@ -34,7 +34,7 @@ struct gpu_ops {
     void (*close)(struct gpu *gpu);
     /* Waits for work an earlier frame left running (a timed-out wait) before its resources are touched. */
     lucent_status (*settle)(struct gpu *gpu, lucent_error *err);
-    lucent_status (*geometry_upload)(struct gpu *gpu, const float *positions, const float *normals,
+    lucent_status (*geometry_upload)(struct gpu *gpu, const float *positions, const float *shading,
                                      uint32_t vertex_count, const uint32_t *indices, uint32_t index_count,
                                      struct gpu_geometry **out, lucent_error *err);
     void (*geometry_free)(struct gpu *gpu, struct gpu_geometry *g);
@@ -58,8 +58,9 @@ lucent_status gpu_open(const char *backend, const char *device_name, int verbose
                        lucent_error *err);
 void gpu_close(struct gpu *gpu);
 lucent_status gpu_settle(struct gpu *gpu, lucent_error *err);
-/* Uploads a mesh's arrays (positions and normals: 3 floats a vertex); *bytes: what they hold. */
-lucent_status gpu_geometry_upload(struct gpu *gpu, const float *positions, const float *normals, uint32_t vertex_count,
+/* Uploads a mesh's arrays (positions: 3 floats a vertex; shading: 4, the normal and mesh_vertex_curvature);
+ * *bytes: what they hold. */
+lucent_status gpu_geometry_upload(struct gpu *gpu, const float *positions, const float *shading, uint32_t vertex_count,
                                   const uint32_t *indices, uint32_t index_count, struct gpu_geometry **out,
                                   uint64_t *bytes, lucent_error *err);
 void gpu_geometry_free(struct gpu *gpu, struct gpu_geometry *g);

@@ -38,12 +38,23 @@ static lucent_status geometry_create(struct gpu *gpu, const struct lucent_mesh *
 {
     size_t index_count = (size_t)m->triangle_count * 3;
     uint32_t *ordered = malloc(index_count * sizeof *ordered);
-    if (!ordered)
-        return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory ordering the mesh");
+    float *curvature = mesh_vertex_curvature(m), *shading = malloc((size_t)m->vertex_count * 4 * sizeof *shading);
+    if (!ordered || !curvature || !shading) {
+        free(ordered);
+        free(curvature);
+        free(shading);
+        return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory preparing the mesh for the device");
+    }
     meshopt_optimizeVertexCache(ordered, m->indices, index_count, m->vertex_count);
-    lucent_status st = gpu_geometry_upload(gpu, m->positions, m->normals, m->vertex_count, ordered,
+    for (size_t v = 0; v < m->vertex_count; v++) {
+        memcpy(&shading[v * 4], &m->normals[v * 3], 3 * sizeof *shading);
+        shading[v * 4 + 3] = curvature[v];
+    }
+    lucent_status st = gpu_geometry_upload(gpu, m->positions, shading, m->vertex_count, ordered,
                                            (uint32_t)index_count, &g->gpu, &g->bytes, err);
     free(ordered);
+    free(curvature);
+    free(shading);
     if (st != LUCENT_OK) {
         memset(g, 0, sizeof *g);
         return st;

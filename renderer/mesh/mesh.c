@@ -411,3 +411,59 @@ double mesh_curvature(const struct lucent_mesh *m, uint32_t t)
     /* as mesh_surface_at, the winding decides which side is outside */
     return (facing < 0.0 ? -sum : sum) / 3.0;
 }
+
+/* Over what share of the bounding radius the vertex curvature is averaged: the sphere's weight (the scatter pass
+ * and reference) wants the body's curvature between points millimetres apart, not a scanned mesh's per-triangle
+ * ripple, whose sign flips patch the image. At most this many passes of averaging (each about one edge). */
+#define CURVATURE_SCALE 0.1
+#define CURVATURE_MAX_PASSES 64
+
+float *mesh_vertex_curvature(const struct lucent_mesh *m)
+{
+    size_t nv = m->vertex_count, nt = m->triangle_count;
+    float *k = malloc(nv * sizeof *k);
+    double *sum = calloc(nv, sizeof *sum), *weight = calloc(nv, sizeof *weight), *area = malloc(nt * sizeof *area);
+    if (!k || !sum || !weight || !area) {
+        free(k);
+        k = NULL;
+        goto done;
+    }
+    double area_total = 0.0;
+    for (uint32_t t = 0; t < nt; t++) {
+        double v[3][3], g[3], c = mesh_curvature(m, t);
+        triangle_corners(m, t, v, g);
+        area[t] = 0.5 * v3_length(g);
+        area_total += area[t];
+        for (int j = 0; j < 3; j++) {
+            uint32_t i = m->indices[(size_t)t * 3 + j];
+            sum[i] += area[t] * c;
+            weight[i] += area[t];
+        }
+    }
+    double edge = sqrt(2.0 * area_total / fmax((double)nt, 1.0)), reach = CURVATURE_SCALE * m->radius;
+    int passes = edge > 0.0 ? (int)fmin(ceil(reach * reach / (edge * edge)), CURVATURE_MAX_PASSES) : 0;
+    for (int pass = 0;; pass++) {
+        for (size_t i = 0; i < nv; i++)
+            k[i] = weight[i] > 0.0 ? (float)(sum[i] / weight[i]) : 0.0f;
+        if (pass == passes)
+            break;
+        memset(sum, 0, nv * sizeof *sum);
+        for (uint32_t t = 0; t < nt; t++) {
+            const uint32_t *ix = &m->indices[(size_t)t * 3];
+            double mean = area[t] * (k[ix[0]] + k[ix[1]] + k[ix[2]]) / 3.0;
+            for (int j = 0; j < 3; j++)
+                sum[ix[j]] += mean;
+        }
+    }
+done:
+    free(sum);
+    free(weight);
+    free(area);
+    return k;
+}
+
+double mesh_curvature_at(const struct lucent_mesh *m, const float *vertex_curvature, uint32_t t, double b1, double b2)
+{
+    const uint32_t *ix = &m->indices[(size_t)t * 3];
+    return (1.0 - b1 - b2) * vertex_curvature[ix[0]] + b1 * vertex_curvature[ix[1]] + b2 * vertex_curvature[ix[2]];
+}

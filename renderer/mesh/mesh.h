@@ -47,5 +47,10 @@ void mesh_surface_at(const struct lucent_mesh *m, uint32_t t, double b1, double 
 /* How fast triangle t's vertex normals turn along its edges, (n_j - n_i) . e / |e|^2 averaged over the three
  * edges (1 / scene units): 1 / radius on a sphere, 0 on a flat face, negative where the surface is concave. */
 double mesh_curvature(const struct lucent_mesh *m, uint32_t t);
+/* mesh_curvature spread to the vertices (area-weighted) and averaged over the surface within about a tenth of
+ * the bounding radius of each: one value per vertex, smooth across triangles (malloc'd; NULL when out of memory). */
+float *mesh_vertex_curvature(const struct lucent_mesh *m);
+/* Curvature at barycentrics (b1, b2) of triangle t, interpolated from mesh_vertex_curvature's values. */
+double mesh_curvature_at(const struct lucent_mesh *m, const float *vertex_curvature, uint32_t t, double b1, double b2);
 
 #endif

@@ -219,7 +219,7 @@ static void shade_pixel(struct context *ctx, int x, int y, uint32_t pass, unsign
 {
     lucent_image *img = ctx->out;
     struct visible_point vp;   /* a back face in view: the medium is on the camera's far side of it */
-    if (!visible_point_at(ctx->camera, ctx->bvh, ctx->mesh, x, y, img->width, img->height, &vp))
+    if (!visible_point_at(ctx->camera, ctx->bvh, ctx->mesh, NULL, x, y, img->width, img->height, &vp))
         return;
     size_t i = (size_t)y * img->width + x;
     for (int c = 0; c < 3; c++) {

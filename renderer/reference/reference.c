@@ -54,6 +54,7 @@ struct context {
     struct bvh *bvh;
     struct profile profile[3];
     struct sphere_tables sphere;   /* diffusion in a sphere over R between points */
+    float *vertex_curvature;       /* mesh_vertex_curvature: the exit's, for the sphere's weight */
     double scale_mm, threshold, eta;
     double exit_weight;      /* sr^-1: diffuse_exit_weight(eta) */
     double near_radius;      /* scene units: points closer than this are integrated as a disc */
@@ -414,7 +415,7 @@ static void shade_pixel(struct context *ctx, int x, int y)
     lucent_image *img = ctx->out;
     double sum[3] = {0.0, 0.0, 0.0};
     struct visible_point v;
-    if (!visible_point_at(ctx->camera, ctx->bvh, ctx->mesh, x, y, img->width, img->height, &v))
+    if (!visible_point_at(ctx->camera, ctx->bvh, ctx->mesh, ctx->vertex_curvature, x, y, img->width, img->height, &v))
         return;
     struct near_disc near = {{0.0, 0.0, 0.0}, 0};
     double curvature_mm = v.curvature / ctx->scale_mm;
@@ -487,6 +488,7 @@ static void free_context(struct context *ctx)
     free(ctx->pos);
     free(ctx->flux);
     free(ctx->normal);
+    free(ctx->vertex_curvature);
     free(ctx->nodes);
     free(ctx->order);
 }
@@ -533,6 +535,10 @@ lucent_status reference_render(const lucent_scene *scene, const struct lucent_me
         (st = choose_point_count(&ctx, options->points, err)) || (st = bvh_build(mesh, &ctx.bvh, err)) ||
         (st = alloc_points(&ctx, err)))
         goto fail;
+    if (!(ctx.vertex_curvature = mesh_vertex_curvature(mesh))) {
+        st = lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory for the curvature of %u vertices", mesh->vertex_count);
+        goto fail;
+    }
     ctx.single = scene->single_scattering;
     ctx.ss = (struct single_scatter){.mesh = mesh, .bvh = ctx.bvh, .lights = ctx.lights,
                                      .light_count = ctx.light_count, .shadows = ctx.shadows,

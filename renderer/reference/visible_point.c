@@ -4,15 +4,16 @@
 
 #include <math.h>
 
-int visible_point_at(const struct view_frame *camera, const struct bvh *bvh, const struct lucent_mesh *mesh, int x,
-                     int y, int width, int height, struct visible_point *out)
+int visible_point_at(const struct view_frame *camera, const struct bvh *bvh, const struct lucent_mesh *mesh,
+                     const float *vertex_curvature, int x, int y, int width, int height, struct visible_point *out)
 {
     struct bvh_hit hit;
     view_frame_pixel_ray(camera, x, y, width, height, out->dir);
     if (!bvh_closest(bvh, camera->eye, out->dir, INFINITY, &hit))
         return 0;
     mesh_surface_at(mesh, hit.triangle, hit.u, hit.v, out->p, out->n, out->g);
-    out->curvature = mesh_curvature(mesh, hit.triangle);
+    out->curvature = vertex_curvature ? mesh_curvature_at(mesh, vertex_curvature, hit.triangle, hit.u, hit.v)
+                                      : mesh_curvature(mesh, hit.triangle);
     if (v3_dot(out->g, out->dir) > 0.0) {
         for (int a = 0; a < 3; a++)
             out->n[a] = -out->n[a], out->g[a] = -out->g[a];

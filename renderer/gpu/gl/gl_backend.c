@@ -90,7 +90,7 @@ static void gl_geometry_free(struct gpu *base, struct gpu_geometry *geo)
     release_current(g);
 }
 
-static lucent_status gl_geometry_upload(struct gpu *base, const float *positions, const float *normals,
+static lucent_status gl_geometry_upload(struct gpu *base, const float *positions, const float *shading,
                                         uint32_t vertex_count, const uint32_t *indices, uint32_t index_count,
                                         struct gpu_geometry **out, lucent_error *err)
 {
@@ -105,14 +105,14 @@ static lucent_status gl_geometry_upload(struct gpu *base, const float *positions
     }
     GLsizeiptr vbytes = (GLsizeiptr)vertex_count * 12;
     geo->positions = buffer_with(positions, vbytes);
-    geo->normals = buffer_with(normals, vbytes);
+    geo->normals = buffer_with(shading, vbytes / 3 * 4);
     geo->indices = buffer_with(indices, (GLsizeiptr)index_count * 4);
     glCreateVertexArrays(1, &geo->vertex_array);
     GLuint streams[2] = {geo->positions, geo->normals};
     for (GLuint i = 0; i < 2; i++) {
-        glVertexArrayVertexBuffer(geo->vertex_array, i, streams[i], 0, 12);
+        glVertexArrayVertexBuffer(geo->vertex_array, i, streams[i], 0, i == 0 ? 12 : 16);
         glEnableVertexArrayAttrib(geo->vertex_array, i);
-        glVertexArrayAttribFormat(geo->vertex_array, i, 3, GL_FLOAT, GL_FALSE, 0);
+        glVertexArrayAttribFormat(geo->vertex_array, i, i == 0 ? 3 : 4, GL_FLOAT, GL_FALSE, 0);
         glVertexArrayAttribBinding(geo->vertex_array, i, i);
     }
     glVertexArrayElementBuffer(geo->vertex_array, geo->indices);
@@ -121,7 +121,7 @@ static lucent_status gl_geometry_upload(struct gpu *base, const float *positions
         release_current(g);
         return st;
     }
-    geo->bytes = (uint64_t)vbytes * 2 + (uint64_t)index_count * 4;
+    geo->bytes = (uint64_t)vbytes / 3 * 7 + (uint64_t)index_count * 4;
     g->geometry_bytes += geo->bytes;
     release_current(g);
     *out = geo;

@@ -108,9 +108,9 @@ static lucent_status make_raster_pipeline(struct vk_context *ctx, const struct r
         {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
          .module = frag, .pName = "main", .pSpecializationInfo = d->frag_constants}};
     VkVertexInputBindingDescription bindings[2] = {{0, 12, VK_VERTEX_INPUT_RATE_VERTEX},
-                                                   {1, 12, VK_VERTEX_INPUT_RATE_VERTEX}};
+                                                   {1, 16, VK_VERTEX_INPUT_RATE_VERTEX}};
     VkVertexInputAttributeDescription attrs[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-                                                  {1, 1, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+                                                  {1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 0}};
     uint32_t streams = d->with_normals ? 2 : 1;
     VkPipelineVertexInputStateCreateInfo vi = {
         .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,

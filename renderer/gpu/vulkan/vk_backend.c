@@ -66,7 +66,7 @@ static void vk_geometry_free(struct gpu *base, struct gpu_geometry *geo)
     free(geo);
 }
 
-static lucent_status vk_geometry_upload(struct gpu *base, const float *positions, const float *normals,
+static lucent_status vk_geometry_upload(struct gpu *base, const float *positions, const float *shading,
                                         uint32_t vertex_count, const uint32_t *indices, uint32_t index_count,
                                         struct gpu_geometry **out, lucent_error *err)
 {
@@ -77,7 +77,7 @@ static lucent_status vk_geometry_upload(struct gpu *base, const float *positions
         return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory uploading the mesh");
     lucent_status st;
     if ((st = upload(&g->ctx, positions, vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, &geo->positions, err)) ||
-        (st = upload(&g->ctx, normals, vbytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, &geo->normals, err)) ||
+        (st = upload(&g->ctx, shading, vbytes / 3 * 4, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, &geo->normals, err)) ||
         (st = upload(&g->ctx, indices, (VkDeviceSize)index_count * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
                      &geo->indices, err))) {
         vk_geometry_free(base, geo);
