@@ -80,7 +80,7 @@ const struct cli_option scene_options[] = {
     {"sigma-s-prime", 0, "R,G,B", "reduced scattering coefficients, mm^-1 (with --sigma-a)", F_SIGMA_S_PRIME},
     {"eta", 0, "X", "relative index of refraction, 1..3 (with coefficients)", F_ETA},
     {"g", 0, "X", "Henyey-Greenstein mean cosine for single scattering, -0.95..0.95", F_G},
-    {"profile", 0, "P", "diffusion profile: dipole, better_dipole or burley (default: dipole; method auto chooses)", F_PROFILE},
+    {"profile", 0, "P", "diffusion profile: dipole, better_dipole, burley or asymptotic_dipole (default: dipole; method auto chooses)", F_PROFILE},
     {"light-dir", 0, "X,Y,Z", "adds a directional light travelling along X,Y,Z (up to 4 lights)", F_LIGHT_DIR},
     {"light-pos", 0, "X,Y,Z", "adds a point light at X,Y,Z (up to 4 lights)", F_LIGHT_POS},
     {"light-color", 0, "R,G,B", "colour of the light added last (before any: the scene's first light)", F_LIGHT_COLOR},

@@ -108,10 +108,12 @@ typedef struct lucent_mesh_ref {
  * dipole, Jensen et al. 2001's (the paper's); better_dipole, d'Eon 2012's (Grosjean's diffusion
  * coefficient, Fresnel-moment boundary, exitance from fluence and flux); burley, Christensen and Burley
  * 2015's normalized diffusion (two exponentials fitted to Monte Carlo, at photon beam diffusion's total
- * albedo). DEFAULT (not given): the dipole, except that method "auto" chooses. Method "path" simulates
- * the medium itself and uses none. */
+ * albedo); asymptotic_dipole, the dipole decaying at the transport equation's own rate (asymptotic
+ * diffusion) with the dipole's total reflectance. DEFAULT (not given): the dipole, except that method
+ * "auto" chooses. Method "path" simulates the medium itself and uses none. */
 typedef enum lucent_profile {
-    LUCENT_PROFILE_DIPOLE = 0, LUCENT_PROFILE_BETTER_DIPOLE, LUCENT_PROFILE_BURLEY, LUCENT_PROFILE_DEFAULT
+    LUCENT_PROFILE_DIPOLE = 0, LUCENT_PROFILE_BETTER_DIPOLE, LUCENT_PROFILE_BURLEY, LUCENT_PROFILE_ASYMPTOTIC_DIPOLE,
+    LUCENT_PROFILE_DEFAULT
 } lucent_profile;
 
 /* Coefficients in mm^-1 per RGB channel (Jensen et al. 2001). */
@@ -186,7 +188,8 @@ lucent_status lucent_scene_parse(const char *json, size_t len, int allow_files,
 lucent_status lucent_material_preset(const char *name, lucent_material *out);
 /* Name of preset i (0-based) or NULL past the end. */
 const char *lucent_material_preset_name(int i);
-/* material.profile's name for p, as the scene document spells it ("dipole", "better_dipole", "burley");
+/* material.profile's name for p, as the scene document spells it ("dipole", "better_dipole", "burley",
+ * "asymptotic_dipole");
  * DEFAULT is the dipole. */
 const char *lucent_profile_name(lucent_profile p);
 

@@ -16,7 +16,7 @@
 
 #define PI 3.14159265358979323846
 
-static const char *const profile_names[] = {"dipole", "better_dipole", "burley"};
+static const char *const profile_names[] = {"dipole", "better_dipole", "burley", "asymptotic_dipole"};
 
 static int close_to(double got, double want, double rel_tol)
 {
@@ -181,11 +181,47 @@ static double integrate(const struct profile *p, double radius, double dz)
     return sum;
 }
 
+/* The transport equation's decay rate against Case's discrete eigenvalue for isotropic scattering, the root of
+ * albedo atanh(nu) / nu = 1 (Case and Zweifel 1967; 0.9575, 0.5254 and 0.1725 at albedo 0.5, 0.9, 0.99, here to
+ * six digits from a separate bisection in Python), diffusion's
+ * sqrt(3 (1 - albedo)) near albedo 1, and the ends; then asymptotic_dipole: it decays at that rate, keeps the
+ * dipole's total reflectance, and is the dipole where the albedo is near 1 (marble). */
+static void asymptotic_dipole(void)
+{
+    const double albedo[] = {0.5, 0.9, 0.99}, want[] = {0.957504, 0.525430, 0.172511};
+    double worst = 0.0;
+    for (int i = 0; i < 3; i++)
+        worst = fmax(worst, fabs(transport_decay_rate((1.0 - albedo[i]) / albedo[i]) - want[i]) / want[i]);
+    test_check(worst < 2e-6, "transport decay rate at albedo 0.5, 0.9, 0.99: Case's eigenvalues within %.1e", worst);
+    double tiny = transport_decay_rate(1e-12), diffusion = sqrt(3.0 * 1e-12);
+    test_check(fabs(tiny / diffusion - 1.0) < 1e-6 && transport_decay_rate(0.0) == 0.0 &&
+                   transport_decay_rate(INFINITY) == 1.0 && transport_decay_rate(1e300) <= 1.0,
+               "transport decay rate: diffusion's %.6g at albedo 1 - 1e-12 (got %.6g), 0 without absorption, 1 without "
+               "scattering", diffusion, tiny);
+    const double sa[] = {0.032, 0.48, 1.45, 0.0071}, ss[] = {0.74, 1.01, 0.03, 3.00};
+    for (int m = 0; m < 4; m++) {
+        struct profile a, c;
+        profile_init(&a, LUCENT_PROFILE_ASYMPTOTIC_DIPOLE, sa[m], ss[m], 0.0, 1.3);
+        profile_init(&c, LUCENT_PROFILE_DIPOLE, sa[m], ss[m], 0.0, 1.3);
+        /* far out its light over the dipole's grows as e^((sigma_tr - rate) r): the power laws cancel */
+        double rate = transport_decay_rate(sa[m] / ss[m]) * (sa[m] + ss[m]), r0 = 20.0 / rate, r1 = 40.0 / rate;
+        double gain = log(profile_rd(&a, r1) / profile_rd(&c, r1) / (profile_rd(&a, r0) / profile_rd(&c, r0))) / (r1 - r0);
+        double want = c.sigma[0] - rate;
+        test_check(fabs(profile_total(&a) / profile_total(&c) - 1.0) < 1e-12 && fabs(gain - want) < 0.01 * rate,
+                   "asymptotic_dipole sigma_a %g sigma_s' %g: total %.6f (the dipole's %.6f); far out it gains on the "
+                   "dipole at %.5f/mm (sigma_tr %.4f - rate %.4f = %.5f; tol 1%% of the rate)", sa[m], ss[m],
+                   profile_total(&a), profile_total(&c), gain, c.sigma[0], rate, want);
+        if (m == 3)
+            test_check(fabs(a.sigma[0] / c.sigma[0] - 1.0) < 1e-3,
+                       "asymptotic_dipole in marble blue: rate %.6f within 0.1%% of the dipole's %.6f", a.sigma[0], c.sigma[0]);
+    }
+}
+
 static void closed_forms(void)
 {
     /* Skin1 red, marble blue, Spectralon-like (no absorption), a dense one; eta 1.3 and 1.0. */
     const double sa[] = {0.032, 0.0071, 0.0, 2.0}, ss[] = {0.74, 3.00, 11.6, 40.0}, eta[] = {1.3, 1.3, 1.0, 1.5};
-    for (int kind = 0; kind < 3; kind++)
+    for (int kind = 0; kind < LUCENT_PROFILE_DEFAULT; kind++)
         for (int m = 0; m < 4; m++) {
             struct profile p;
             profile_init(&p, (lucent_profile)kind, sa[m], ss[m], 0.0, eta[m]);
@@ -239,7 +275,7 @@ static void curved_surfaces(void)
     const double sa[] = {0.032, 0.0071, 0.0}, ss[] = {0.74, 3.00, 11.6}, eta[] = {1.3, 1.3, 1.0};
     const double tilt[3] = {0.36, -0.48, 0.8};   /* a unit normal; in-plane directions below */
     const double in_plane[2][3] = {{0.8, 0.6, 0.0}, {-0.48, 0.64, 0.6}};
-    for (int kind = 0; kind < 3; kind++) {
+    for (int kind = 0; kind < LUCENT_PROFILE_DEFAULT; kind++) {
         double worst = 0.0;
         for (int m = 0; m < 3; m++) {
             struct profile p;
@@ -323,7 +359,7 @@ static void curved_surfaces(void)
     const double half[3] = {0.0, 0.0, 0.5}, at[][3] = {{0.0, 0.0, 0.0}, {1e-9, 0.0, 0.0}, {0.0, 0.0, -2.0},
                                                         {3.0, 0.0, -1.0}, {1e17, 0.0, 1e17}, {0.0, 0.0, 1e-3}};
     const double *normals[] = {up, down, half, tilt};
-    for (int kind = 0; kind < 3; kind++)
+    for (int kind = 0; kind < LUCENT_PROFILE_DEFAULT; kind++)
         for (int m = 0; m < 3; m++) {
             struct profile p;
             profile_init(&p, (lucent_profile)kind, sa[m], ss[m], 0.0, eta[m]);
@@ -428,7 +464,7 @@ static void extremes(void)
 {
     const double sa[] = {0.0, 1e-6, 1e5, 0.0, 1e5}, ss[] = {1e-6, 1e5, 1e-6, 1e5, 1e5};
     const double eta[] = {1.0, 3.0, 1.3, 1.0, 3.0};
-    for (int kind = 0; kind < 3; kind++) {
+    for (int kind = 0; kind < LUCENT_PROFILE_DEFAULT; kind++) {
         int fine = 1;
         for (int m = 0; m < 5; m++) {
             struct profile p;
@@ -470,6 +506,7 @@ int main(void)
     better_dipole();
     beam_diffusion_total();
     normalized_diffusion();
+    asymptotic_dipole();
     closed_forms();
     curved_surfaces();
     sphere_diffusion();

@@ -335,21 +335,22 @@ static void check_far_blocks(lucent_renderer *r)
                disc[2] / disc[1]);
 }
 
-/* Method auto's profile when none is given: the dipole under every light (README: against method path, with
- * R between points of the surface it is the nearest under side and back light), and the one given when
+/* Method auto's profile when none is given: the asymptotic dipole under every light (README: against method
+ * path, with R between points of the surface it is the nearest under side and back light), and the one given when
  * one is. Its single scattering: on where light enters behind a strongly absorbing object (against path, the
  * dipole alone misses ketchup's light scattered once or not at all on its way through), off behind a scattering
  * one (skin1, marble: diffusion already has about all of it) and elsewhere, as given when given. */
 static void check_auto_profile(lucent_renderer *r)
 {
     static const struct { const char *preset, *light, *want, *given, *single_reason; int single; } cases[] = {
-        {"skin1", "[-1,0,0]", "dipole", "", "no light enters behind", 0},
-        {"skin1", "[0,0,-1]", "dipole", "", "no light enters behind", 0},
-        {"ketchup", "[0,0,1]", "dipole", "", "light enters behind an absorbing medium", 1},
-        {"ketchup", "[-0.766,0,0.643]", "dipole", "", "light enters behind an absorbing medium", 1},
-        {"skin1", "[0,0,1]", "dipole", "", "light enters behind a scattering medium", 0},
-        {"marble", "[0,0,1]", "dipole", "", "light enters behind a scattering medium", 0},
-        {"skin1", "[-1,0,0]", "burley", ",\"profile\":\"burley\"", "no light enters behind", 0}};
+        {"skin1", "[-1,0,0]", "asymptotic_dipole", "", "no light enters behind", 0},
+        {"skin1", "[0,0,-1]", "asymptotic_dipole", "", "no light enters behind", 0},
+        {"ketchup", "[0,0,1]", "asymptotic_dipole", "", "light enters behind an absorbing medium", 1},
+        {"ketchup", "[-0.766,0,0.643]", "asymptotic_dipole", "", "light enters behind an absorbing medium", 1},
+        {"skin1", "[0,0,1]", "asymptotic_dipole", "", "light enters behind a scattering medium", 0},
+        {"marble", "[0,0,1]", "asymptotic_dipole", "", "light enters behind a scattering medium", 0},
+        {"skin1", "[-1,0,0]", "burley", ",\"profile\":\"burley\"", "no light enters behind", 0},
+        {"skin1", "[0,0,1]", "dipole", ",\"profile\":\"dipole\"", "light enters behind a scattering medium", 0}};
     for (int i = 0; i < (int)(sizeof cases / sizeof cases[0]); i++) {
         char json[300], want[64];
         snprintf(json, sizeof json,
@@ -361,7 +362,7 @@ static void check_auto_profile(lucent_renderer *r)
         lucent_stats stats;
         test_render(r, json, &img, &stats);
         const char *share = strstr(stats.modelled, "\"hidden_light_share\":");
-        const char *reason = cases[i].given[0] ? "\"profile_reason\":\"given\"" : "\"profile_reason\":\"dipole: nearest";
+        const char *reason = cases[i].given[0] ? "\"profile_reason\":\"given\"" : "\"profile_reason\":\"asymptotic_dipole: nearest";
         test_check(strstr(stats.modelled, want) && strstr(stats.modelled, reason) && share,
                    "auto, %s, light travelling along %s: %s (%.28s)", cases[i].preset, cases[i].light, cases[i].want,
                    share ? share : "");

@@ -390,6 +390,10 @@ static void test_values(void)
               parse("{\"material\": {\"preset\": \"marble\"}}", &s) && s.material.profile == LUCENT_PROFILE_DEFAULT &&
               strcmp(lucent_profile_name(s.material.profile), "dipole") == 0,
           "material.profile with a preset; without one DEFAULT (the dipole, or method auto's choice)");
+    check(parse("{\"material\": {\"preset\": \"skin1\", \"profile\": \"asymptotic_dipole\"}}", &s) &&
+              s.material.profile == LUCENT_PROFILE_ASYMPTOTIC_DIPOLE &&
+              strcmp(lucent_profile_name(s.material.profile), "asymptotic_dipole") == 0,
+          "material.profile asymptotic_dipole");
     check(parse("{\"method\": \"auto\"}", &s) && s.single_scattering == LUCENT_CHOSEN &&
               parse("{\"method\": \"auto\", \"single_scattering\": false}", &s) && s.single_scattering == 0 &&
               parse("{\"method\": \"five\"}", &s) && s.single_scattering == 0,

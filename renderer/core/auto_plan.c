@@ -79,11 +79,12 @@ lucent_status auto_plan_choose(const lucent_scene *scene, const struct lucent_me
     }
     out->hidden_light_share = entering_sum > 0.0 ? hidden_sum / entering_sum : 0.0;
     /* With R taken between points of the surface the dipole is the nearest profile to method "path" under
-     * side and back light alike (README, Diffusion profiles); before that, normalized diffusion was under
-     * side light. */
+     * side and back light alike (README, Diffusion profiles), and with the transport equation's decay rate
+     * (asymptotic_dipole) nearer still through thick absorbing parts (the same where the albedo is near 1);
+     * before R between points, normalized diffusion was under side light. */
     int chosen = scene->material.profile == LUCENT_PROFILE_DEFAULT;
     if (chosen)
-        s->material.profile = LUCENT_PROFILE_DIPOLE;
+        s->material.profile = LUCENT_PROFILE_ASYMPTOTIC_DIPOLE;
     out->profile = s->material.profile;
     double scale_mm = frame_scale_mm(scene, mesh), r_max = 2.0 * mesh->radius * scale_mm;
     double widest = 0.0, narrowest = INFINITY;
@@ -130,7 +131,7 @@ lucent_status auto_plan_choose(const lucent_scene *scene, const struct lucent_me
              out->diffuse_limit ? "diffuse limit: 95% of R_d within half a texel"
              : per_channel      ? "channel kernels differ over 3x: per channel"
                                 : "samples cover the kernel's texels, shared by the channels",
-             chosen ? "dipole: nearest method path under side and back light" : "given",
+             chosen ? "asymptotic_dipole: nearest method path under side and back light" : "given",
              !single_chosen           ? "given"
              : !behind                ? "no light enters behind the object: diffusion alone"
              : absorbing              ? "light enters behind an absorbing medium: scattered once or not at all"

@@ -1,4 +1,4 @@
-/* dipole.c - the classic and the better dipole as two-source profiles, and the boundary's Fresnel terms.
+/* dipole.c - the classic, asymptotic and better dipoles as two-source profiles, and the boundary's Fresnel terms.
  * Written for the extremes: sigma_a = 0 (sigma_tr = 0), eta = 1, coefficients from 1e-6 to 1e5 mm^-1. */
 #include "dipole.h"
 #include "linalg.h"
@@ -84,6 +84,51 @@ void dipole_classic(struct profile *p, double sigma_a, double sigma_s_prime, dou
         p->sigma[k] = sigma_tr;
         p->b[k] = alpha_prime * p->z[k] / (4.0 * PI);
     }
+}
+
+/* atanh(x) / x - 1 = x^2 / 3 + x^4 / 5 + ..., without cancelling for small x. */
+static double atanh_ratio_excess(double x)
+{
+    if (x > 1e-2)
+        return atanh(x) / x - 1.0;
+    double x2 = x * x, sum = 0.0;
+    for (int k = 9; k >= 1; k--)
+        sum = x2 * (1.0 / (2 * k + 1) + sum);
+    return sum;
+}
+
+double transport_decay_rate(double absorption_over_scattering)
+{
+    double want = absorption_over_scattering;
+    if (!(want > 0.0))
+        return 0.0;
+    if (!(want < INFINITY))
+        return 1.0;
+    /* increasing in nu from 0 to infinity: bisection to the last bit, from diffusion's estimate up */
+    double lo = 0.0, hi = 1.0;
+    for (int i = 0; i < 200 && hi - lo > 1e-17 * hi; i++) {
+        double mid = 0.5 * (lo + hi);
+        if (atanh_ratio_excess(mid) > want)
+            hi = mid;
+        else
+            lo = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+void dipole_asymptotic(struct profile *p, double sigma_a, double sigma_s_prime, double eta)
+{
+    dipole_classic(p, sigma_a, sigma_s_prime, eta);
+    p->kind = LUCENT_PROFILE_ASYMPTOTIC_DIPOLE;
+    double classic_total = profile_total(p), rate = sigma_s_prime > 0.0
+                                                      ? transport_decay_rate(sigma_a / sigma_s_prime) * p->sigma_t_prime
+                                                      : p->sigma_t_prime;
+    for (int k = 0; k < 2; k++)
+        p->sigma[k] = rate;
+    double total = profile_total(p);
+    if (total > 0.0 && isfinite(total) && classic_total > 0.0)
+        for (int k = 0; k < 2; k++)
+            p->b[k] *= classic_total / total;
 }
 
 void dipole_better(struct profile *p, double sigma_a, double sigma_s_prime, double eta)

@@ -1,5 +1,5 @@
-/* dipole.h - the dipole diffusion profiles (Jensen et al. 2001's classic one, d'Eon 2012's better one) and
- * the Fresnel terms of the boundary they share. Lengths in mm, coefficients in mm^-1, double precision. */
+/* dipole.h - the dipole diffusion profiles (Jensen et al. 2001's classic one, its asymptotic-decay variant,
+ * d'Eon 2012's better one) and the Fresnel terms of the boundary they share. Lengths in mm, coefficients in mm^-1, double precision. */
 #ifndef LUCENT_DIPOLE_H
 #define LUCENT_DIPOLE_H
 
@@ -25,6 +25,15 @@ double diffuse_exit_weight(double eta);
 /* Jensen et al. 2001: a real source at z_r = 1 / sigma_t' of power alpha', its mirror image
  * 2 z_b above the boundary, exitance from the flux alone. */
 void dipole_classic(struct profile *p, double sigma_a, double sigma_s_prime, double eta);
+/* The transport equation's asymptotic decay rate in an infinite medium of isotropic scattering, in units of
+ * sigma_t: nu in (0, 1] with atanh(nu) / nu = 1 / albedo, given as sigma_a / sigma_s = (1 - albedo) / albedo
+ * (exact near albedo 1; INFINITY: no scattering, nu = 1). Diffusion's own rate is sqrt(3 (1 - albedo)). */
+double transport_decay_rate(double absorption_over_scattering);
+/* The classic dipole decaying at the transport equation's rate (transport_decay_rate(sigma_a / sigma_s')
+ * sigma_t' instead of sigma_tr) and scaled to the classic dipole's total reflectance: asymptotic diffusion
+ * for the light far from where it entered (through thick absorbing parts), the dipole's calibrated albedo
+ * near it. The same as dipole_classic where albedo is near 1. */
+void dipole_asymptotic(struct profile *p, double sigma_a, double sigma_s_prime, double eta);
 /* d'Eon 2012, "A Better Dipole": Grosjean's diffusion coefficient D = (2 sigma_a + sigma_s') / (3 sigma_t'^2),
  * the boundary's extrapolation distance from the Fresnel moments, and exitance from fluence and flux,
  * R = alpha'^2 / (4 pi) sum (C_E z (1 + sigma_tr d) / d^2 + C_phi / D) e^(-sigma_tr d) / d over the

@@ -12,6 +12,8 @@ void profile_init(struct profile *p, lucent_profile kind, double sigma_a, double
 {
     if (kind == LUCENT_PROFILE_BETTER_DIPOLE)
         dipole_better(p, sigma_a, sigma_s_prime, eta);
+    else if (kind == LUCENT_PROFILE_ASYMPTOTIC_DIPOLE)
+        dipole_asymptotic(p, sigma_a, sigma_s_prime, eta);
     else if (kind == LUCENT_PROFILE_BURLEY)
         burley_profile(p, sigma_a, sigma_s_prime, g, eta);
     else

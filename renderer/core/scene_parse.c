@@ -76,7 +76,8 @@ static const char *const path_boundary_names[] = {
     [LUCENT_PATH_FRESNEL] = "fresnel", [LUCENT_PATH_CYCLES] = "cycles", NULL};
 static const char *const profile_names[] = {
     [LUCENT_PROFILE_DIPOLE] = "dipole", [LUCENT_PROFILE_BETTER_DIPOLE] = "better_dipole",
-    [LUCENT_PROFILE_BURLEY] = "burley", [LUCENT_PROFILE_DEFAULT] = NULL};
+    [LUCENT_PROFILE_BURLEY] = "burley", [LUCENT_PROFILE_ASYMPTOTIC_DIPOLE] = "asymptotic_dipole",
+    [LUCENT_PROFILE_DEFAULT] = NULL};
 static const char *const fallback_names[] = {
     [LUCENT_FALLBACK_NEXT_BEST] = "next_best", [LUCENT_FALLBACK_FRONT] = "front", NULL};
 /* Fields method "auto" chooses itself; giving one with it is a conflict, not silently ignored. */

@@ -135,8 +135,8 @@ static struct profile within_terms(const struct profile *p, double a)
 
 lucent_status sphere_table_init(struct sphere_table *t, const struct profile *p, lucent_error *err)
 {
-    /* Only the classical dipole has one real source of flux terms to put in a sphere. */
-    t->sources = p->kind == LUCENT_PROFILE_DIPOLE && p->z[0] > 0.0 && p->sigma[0] > 0.0 && isfinite(p->sigma[0]);
+    /* Only the classical dipoles have one real source of flux terms to put in a sphere. */
+    t->sources = (p->kind == LUCENT_PROFILE_DIPOLE || p->kind == LUCENT_PROFILE_ASYMPTOTIC_DIPOLE) && p->z[0] > 0.0 && p->sigma[0] > 0.0 && isfinite(p->sigma[0]);
     t->sigma = p->sigma[0];
     for (int i = 0; i < SPHERE_TABLE_T; i++)
         for (int j = 0; j < SPHERE_TABLE_G; j++)

@@ -63,6 +63,7 @@ static const struct mode modes[] = {
     {"five single scattering", "\"method\":\"five\",\"single_scattering\":true", LUCENT_PROFILE_DEFAULT},
     {"five better_dipole", "\"method\":\"five\"", LUCENT_PROFILE_BETTER_DIPOLE},
     {"five burley", "\"method\":\"five\"", LUCENT_PROFILE_BURLEY},
+    {"five asymptotic_dipole", "\"method\":\"five\"", LUCENT_PROFILE_ASYMPTOTIC_DIPOLE},
 };
 
 enum { MODES = (int)N(modes), CASES_PER_SIZE = (int)(N(meshes) * N(lights) * N(materials)) };

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # path_vs_profiles.sh - how far each diffusion profile is from light itself: method "path" (random walks,
 # boundary "fresnel") renders the bunny and the sphere, side- and back-lit, in marble and skin1; for every
-# profile (dipole, better_dipole, burley) methods "reference" and "five" are scored against it: relative L2,
+# profile (dipole, better_dipole, burley, asymptotic_dipole) methods "reference" and "five" are scored against it: relative L2,
 # the same with the walks' own noise taken out (sqrt(rel_l2^2 - noise^2), noise the path image's relative
 # standard error), and the mean ratio. Prints a Markdown table with the medians per profile and method, writes
 # it to OUT, and a sheet per scene (path | each profile's reference | five) to OUT's folder.
@@ -12,7 +12,7 @@ bin=$1 bunny=$2 out=${3:-path_vs_profiles.md} size=${4:-64} walks=${5:-64}
 sheets=$(dirname "$out")
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
-profiles="dipole better_dipole burley"
+profiles="dipole better_dipole burley asymptotic_dipole"
 
 field() {  # field FILE KEY: the first number after "KEY":
     grep -o "\"$2\":[-0-9.e+]*" "$1" | head -1 | cut -d: -f2

@@ -25,7 +25,7 @@ plot_size() {  # plot_size SIZE
     rows "$size" '^five( samples [0-9]+)?$' > "$dir/samples.tsv"
     rows "$size" '^five( projection [0-9]+)?$' > "$dir/projection.tsv"
     rows "$size" 'per_channel' > "$dir/per_channel.tsv"
-    rows "$size" '(better_dipole|burley)$' > "$dir/profiles.tsv"
+    rows "$size" '(better_dipole|burley|asymptotic_dipole)$' > "$dir/profiles.tsv"
     rows "$size" '^auto' > "$dir/auto.tsv"
     rows "$size" '' | awk -F'\t' '$6 == 1' > "$dir/pareto.tsv"
     # short labels: the knob for the sample and projection variants (the curve's colour gives the family)

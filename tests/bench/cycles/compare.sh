@@ -90,7 +90,7 @@ for name in "${scenes[@]}"; do
 
     # Lucent: path (cycles and fresnel boundaries), then reference and five per diffusion profile.
     jobs=("path||cycles" "path||fresnel")
-    for prof in dipole better_dipole burley; do
+    for prof in dipole better_dipole burley asymptotic_dipole; do
         jobs+=("reference|$prof|" "five|$prof|")
     done
     for job in "${jobs[@]}"; do
