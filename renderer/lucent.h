@@ -248,6 +248,21 @@ typedef struct lucent_image_error {
 
 lucent_status lucent_image_compare(const lucent_image *test, const lucent_image *ref, lucent_image_error *out,
                                    lucent_error *err);
+/* Against a truth seen only through two independent noisy estimates of it, a and b (method "path" under
+ * two seeds), over the pixels covered in all, RGB, relative to the truth's norm estimated by sum a.b.
+ * rel L2 against their mean adds their noise, and taking a noise estimate out of it leaves the error
+ * divided by sqrt(1 + noise^2) or worse; the cross sum below cancels the noise in expectation instead. */
+typedef struct lucent_noisy_error {
+    double rel_l2;      /* sqrt(sum (test - a).(test - b) / sum a.b), 0 where the sum falls below 0 */
+    double rel_l2_low;  /* the same with the sum 2 standard errors lower (0 where the noise hides the error) */
+    double rel_l2_high; /* and 2 standard errors higher: the error is below this */
+    double noise;       /* sqrt(sum ((a - b) / 2)^2 / sum a.b), the noise of the estimates' mean */
+} lucent_noisy_error;
+
+/* The standard error comes from the spread of the cross sum over 64 pixel lattices (every 8th pixel
+ * across and down). test NULL: only noise. Every member NAN where sum a.b <= 0. */
+lucent_status lucent_image_compare_noisy(const lucent_image *test, const lucent_image *a, const lucent_image *b,
+                                         lucent_noisy_error *out, lucent_error *err);
 /* Writes the measures as one JSON object; returns the length or -1 if cap is too small. */
 int lucent_image_error_json(const lucent_image_error *e, char *buf, size_t cap);
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # test_cli.sh - drives lucent-render as a user would: renders builtins and the bunny to PNG and EXR,
-# decodes the results with oiiotool, checks --stats, --compare, --backend and --device, and exit codes and
-# messages for bad input.
+# decodes the results with oiiotool, checks --stats, --compare (once and twice), --backend and --device, and
+# exit codes and messages for bad input.
 # Every run goes through render(), which shows the run's whole standard error: ctest runs this script under the
 # validation layer and fails it on any "vulkan validation" or "opengl validation" line, and the last check
 # here counts those lines too, so that a report cannot hide in a captured stream.
@@ -84,6 +84,19 @@ sys.exit(0 if c["pixels"] > 0 and band["pixels"] > 0 and c["coverage_mismatch"] 
 PY
 }
 
+# without_noise_is REL NOISE WIDTH: the last run's "without_noise" (--compare twice) has rel L2 and noise at
+# these values (within 1e-4), and an interval holding REL no wider than WIDTH.
+without_noise_is() {
+    python3 - "$dir/out" "$@" <<'PY'
+import json, sys
+n = json.load(open(sys.argv[1]))["without_noise"]
+rel, noise, width = map(float, sys.argv[2:])
+print(f'     without_noise {n}; wanted rel_l2 {rel}, noise {noise}, interval at most {width} wide')
+sys.exit(0 if abs(n["rel_l2"] - rel) < 1e-4 and abs(n["noise"] - noise) < 1e-4 and n["low"] <= rel <= n["high"]
+         and n["high"] - n["low"] <= width else 1)
+PY
+}
+
 shadow_of() { [[ $1 == sphere ]] && echo "skipped: mesh is convex" || echo "shadow map"; }
 for mesh in sphere torus protrusion; do
     for method in five single; do
@@ -125,6 +138,14 @@ check "--compare against the same render at exposure 1 reports rel L2 0.5" \
     eval 'render "$five" -o "$dir/x.png" --compare "$dir/bright.exr" && compare_in 0.4999 0.5001'
 # five against reference on this scene measured 0.035 (band 0.032). The range, a seventh to three times that, leaves
 # room for changes to the scatter pass and still catches a comparison with the wrong image.
+# Twice: two estimates of a truth, here both exactly the bright render, so there is no noise and the error
+# without it is 0.5 as above. Its interval is not empty: the error differs from pixel to pixel, so the 64
+# lattices' sums differ a little (measured 0.493-0.507; subsets of whole columns gave 0.409-0.577).
+check "--compare given twice reports the error without noise: 0.5, noise 0, interval holding 0.5 within 0.03" \
+    eval 'render "$five" -o "$dir/x.png" --compare "$dir/bright.exr" --compare "$dir/bright.exr" &&
+          without_noise_is 0.5 0 0.03'
+check "--compare a third time: exit 2" expect_exit 2 "unexpected argument" "$five" -o "$dir/x.png" \
+    --compare "$dir/bright.exr" --compare "$dir/bright.exr" --compare "$dir/bright.exr"
 check "--compare five against reference: rel L2 in [0.005, 0.11] (measured 0.035)" \
     eval 'render "$five" -o "$dir/x.png" --compare "$dir/reference.exr" && compare_in 0.005 0.11'
 check "--compare with a missing reference: exit 1" \

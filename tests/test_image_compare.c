@@ -1,7 +1,9 @@
 /* test_image_compare.c - the error measures on images whose error is known by construction: equal
  * images, a uniform 20% gain, an error confined to the silhouette band, coverage differences; and the
  * frequency split (noise, low frequencies, mean ratio) on a smooth quadratic image, whose box means
- * are known in closed form, perturbed by a gain, a checkerboard and a linear ramp. */
+ * are known in closed form, perturbed by a gain, a checkerboard and a linear ramp; and the error against
+ * a truth seen only through two noisy estimates of it, with the spread of that estimate checked over
+ * many draws of the noise. */
 #include "json_text.h"
 #include "test_support.h"
 
@@ -64,6 +66,8 @@ static void copy_image(const lucent_image *src, lucent_image *dst)
 static const double A[3] = {0.6, 0.3, 0.15};
 /* Pixels whose 5x5 neighbourhood lies in the rectangle. */
 #define INTERIOR ((X1 - X0 - 4) * (Y1 - Y0 - 4))
+/* RGB values on the rectangle. */
+#define RECTANGLE_VALUES ((X1 - X0) * (Y1 - Y0) * 3)
 
 static double smooth_value(int c, int x, int y)
 {
@@ -207,6 +211,137 @@ static void check_frequencies(void)
     lucent_image_free(&ref);
 }
 
+/* Uniform in [-1, 1), from a fixed LCG: the same noise every run. */
+static double noise_unit(unsigned *state)
+{
+    *state = *state * 1664525u + 1013904223u;
+    return (*state >> 8) / 8388608.0 - 1.0;
+}
+
+/* a and b: two independent estimates of truth, each pixel and channel times (1 + amplitude u), u uniform
+ * in [-1, 1) (relative noise amplitude/sqrt(3) each). */
+static void noisy_estimates(const lucent_image *truth, lucent_image *a, lucent_image *b, double amplitude,
+                            unsigned *state)
+{
+    for (int k = 0; k < W * H * 4; k++)
+        if (k % 4 != 3) {
+            a->rgba[k] = (float)(truth->rgba[k] * (1.0 + amplitude * noise_unit(state)));
+            b->rgba[k] = (float)(truth->rgba[k] * (1.0 + amplitude * noise_unit(state)));
+        }
+}
+
+/* Amplitude 0.3: the mean of a and b has relative noise 0.3/sqrt(6) = 0.122, and the test is the truth
+ * times 1.1 (error 0.1). rel_l2 against the mean reads about sqrt(0.1^2 + 0.122^2); compare_noisy
+ * should give 0.1 within its own spread over these 2244 values (about 0.004), inside its interval. */
+static void check_noisy_error(const lucent_image *truth, lucent_image *a, lucent_image *b, lucent_image *test)
+{
+    lucent_image mean;
+    lucent_error err = {0};
+    copy_image(truth, &mean);
+    unsigned state = 7;
+    noisy_estimates(truth, a, b, 0.3, &state);
+    double t2 = 0.0, d2 = 0.0;
+    for (int k = 0; k < W * H * 4; k++)
+        if (k % 4 != 3) {
+            mean.rgba[k] = 0.5f * (a->rgba[k] + b->rgba[k]);
+            test->rgba[k] = 1.1f * truth->rgba[k];
+            t2 += (double)truth->rgba[k] * truth->rgba[k];
+            d2 += ((double)mean.rgba[k] - truth->rgba[k]) * ((double)mean.rgba[k] - truth->rgba[k]);
+        }
+    double true_noise = sqrt(d2 / t2);
+    lucent_image_error e;
+    lucent_noisy_error n;
+    lucent_image_compare(test, &mean, &e, &err);
+    lucent_status st = lucent_image_compare_noisy(test, a, b, &n, &err);
+    test_check(st == LUCENT_OK && fabs(n.rel_l2 - 0.1) < 0.015 && n.rel_l2_low < 0.1 && n.rel_l2_high > 0.1 &&
+                   n.rel_l2_low > 0.0 && fabs(n.noise - true_noise) < 0.1 * true_noise && e.object.rel_l2 > 0.15,
+               "true error 0.1 behind two noisy truths (%d values, tolerance 0.015): compare_noisy %.4f (2 standard "
+               "errors %.4f-%.4f; rel L2 against their mean %.4f), noise of the mean %.4f (actual %.4f, expected 0.122)",
+               RECTANGLE_VALUES, n.rel_l2, n.rel_l2_low, n.rel_l2_high, e.object.rel_l2, n.noise, true_noise);
+    lucent_image_free(&mean);
+}
+
+/* The interval's width against the spread it claims: over 200 draws of the noise, the cross sum's own
+ * standard deviation against the mean standard error compare_noisy estimated (within 25%), and the
+ * share of intervals holding the true 0.1 (about 95% for 2 standard errors; at least 88%). */
+static void check_noisy_interval(const lucent_image *truth, lucent_image *a, lucent_image *b,
+                                 const lucent_image *test)
+{
+    enum { DRAWS = 200 };
+    lucent_error err = {0};
+    unsigned state = 11;
+    double t2 = 0.0, sum = 0.0, sum2 = 0.0, se = 0.0;
+    int held = 0;
+    for (int k = 0; k < W * H * 4; k++)
+        if (k % 4 != 3)
+            t2 += (double)truth->rgba[k] * truth->rgba[k];
+    for (int d = 0; d < DRAWS; d++) {
+        lucent_noisy_error n;
+        noisy_estimates(truth, a, b, 0.3, &state);
+        lucent_image_compare_noisy(test, a, b, &n, &err);
+        double cross = n.rel_l2 * n.rel_l2 * t2;  /* the estimates' own sum a.b differs from t2 by noise */
+        sum += cross;
+        sum2 += cross * cross;
+        se += (n.rel_l2_high * n.rel_l2_high - n.rel_l2 * n.rel_l2) * t2 / 2.0 / DRAWS;
+        held += n.rel_l2_low <= 0.1 && 0.1 <= n.rel_l2_high;
+    }
+    double spread = sqrt(fmax(sum2 / DRAWS - (sum / DRAWS) * (sum / DRAWS), 0.0));
+    test_check(fabs(se / spread - 1.0) < 0.25 && held >= DRAWS * 88 / 100,
+               "over %d draws: the cross sum's spread %.4g, mean standard error estimated %.4g (ratio %.3f, "
+               "tolerance 25%%); intervals holding the true 0.1: %d (at least %d)",
+               DRAWS, spread, se, se / spread, held, DRAWS * 88 / 100);
+}
+
+/* Noise far above the error: the truth itself behind estimates with amplitude 3 (noise of the mean
+ * 1.22) cannot be told from a small error, so the interval starts at 0 and still bounds it from above,
+ * far below the noise. */
+static void check_noise_hides_error(const lucent_image *truth, lucent_image *a, lucent_image *b)
+{
+    lucent_error err = {0};
+    lucent_noisy_error n;
+    unsigned state = 6;
+    noisy_estimates(truth, a, b, 3.0, &state);
+    lucent_status st = lucent_image_compare_noisy(truth, a, b, &n, &err);
+    test_check(st == LUCENT_OK && n.rel_l2_low == 0.0 && n.rel_l2_high >= n.rel_l2 && n.rel_l2_high < 0.5 &&
+                   n.noise > 1.0,
+               "the truth behind noise %.3f: compare_noisy %.4f, interval %.4f-%.4f (expected from 0)", n.noise,
+               n.rel_l2, n.rel_l2_low, n.rel_l2_high);
+}
+
+static void check_noisy_truth(void)
+{
+    lucent_image truth, a, b, test;
+    lucent_error err = {0};
+    lucent_noisy_error n;
+    make_smooth(&truth);
+    copy_image(&truth, &a);
+    copy_image(&truth, &b);
+    copy_image(&truth, &test);
+    check_noisy_error(&truth, &a, &b, &test);
+    check_noisy_interval(&truth, &a, &b, &test);
+    lucent_status st = lucent_image_compare_noisy(&truth, &a, &b, &n, &err);
+    test_check(st == LUCENT_OK && n.rel_l2 < 0.03 && n.rel_l2_low == 0.0 && n.rel_l2_high < 0.05,
+               "the truth itself behind them: %.4f, interval %.4f-%.4f (expected from 0, below 0.05)", n.rel_l2, n.rel_l2_low,
+               n.rel_l2_high);
+    st = lucent_image_compare_noisy(NULL, &a, &b, &n, &err);
+    test_check(st == LUCENT_OK && isnan(n.rel_l2) && isnan(n.rel_l2_high) && n.noise > 0.0,
+               "no test: rel %g (NAN), noise %.4f", n.rel_l2, n.noise);
+    check_noise_hides_error(&truth, &a, &b);
+    for (int k = 0; k < W * H * 4; k++)
+        if (k % 4 != 3)
+            a.rgba[k] = b.rgba[k] = 0.0f;
+    st = lucent_image_compare_noisy(&test, &a, &b, &n, &err);
+    test_check(st == LUCENT_OK && isnan(n.rel_l2) && isnan(n.noise), "black truths: rel %g, noise %g (NAN)",
+               n.rel_l2, n.noise);
+    lucent_image small = {0};
+    lucent_image_alloc(&small, 8, 8, 0, &err);
+    test_check(lucent_image_compare_noisy(&test, &a, &small, &n, &err) == LUCENT_E_INVALID,
+               "size mismatch refused: %s", err.message);
+    lucent_image *all[] = {&truth, &a, &b, &test, &small};
+    for (int i = 0; i < 5; i++)
+        lucent_image_free(all[i]);
+}
+
 int main(void)
 {
     lucent_image ref, test;
@@ -255,6 +390,7 @@ int main(void)
                    strstr(json, "\"interior_pixels\":") && strstr(json, "\"rel_l2\":"),
                "JSON has the old and the new keys: %s", json);
     check_frequencies();
+    check_noisy_truth();
 
     /* A black reference makes the per-pixel relative measures 0/0: JSON has no NaN, so they print as null. */
     for (int i = 0; i < W * H; i++)

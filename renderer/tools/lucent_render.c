@@ -2,6 +2,7 @@
  * liblucent and writes PNG or EXR; exit 0 on success, 1 on a rendering error, 2 on bad usage. */
 #include "lucent.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,20 +11,23 @@
 #define MAX_SCENE_BYTES (16u << 20)
 
 static const char usage[] =
-    "usage: lucent-render SCENE.json -o OUT.png|OUT.exr [--stats] [--compare REF.exr] [--backend B] [--device NAME]\n"
-    "                     [--verbose]\n"
+    "usage: lucent-render SCENE.json -o OUT.png|OUT.exr [--stats] [--compare REF.exr [--compare REF2.exr]]\n"
+    "                     [--backend B] [--device NAME] [--verbose]\n"
     "  SCENE.json   scene document (see README); '-' reads standard input\n"
     "  -o FILE      output image; the extension (.png or .exr) picks the format\n"
     "  --stats      print pass times and what was modelled, as JSON on standard output\n"
     "  --compare R  print the error of this render against the EXR R (written with exposure 0 and no\n"
-    "               background, e.g. by method \"reference\"), as JSON on standard output\n"
+    "               background, e.g. by method \"reference\"), as JSON on standard output; given twice\n"
+    "               (two independent noisy truths, e.g. method \"path\" under two seeds), against their mean,\n"
+    "               and as \"without_noise\" the error with their noise cancelled, its interval of 2\n"
+    "               standard errors, and the noise of their mean\n"
     "  --backend B  vulkan, gl (OpenGL 4.5 through EGL) or auto (Vulkan, else OpenGL; the default, or\n"
     "               $LUCENT_BACKEND)\n"
     "  --device S   use the first device whose name contains S (else $LUCENT_DEVICE)\n"
     "  --verbose    log the chosen device and resource creation to standard error\n";
 
 struct options {
-    const char *scene_path, *out_path, *backend, *device, *compare_path;
+    const char *scene_path, *out_path, *backend, *device, *compare_path[2];
     int stats, verbose;
 };
 
@@ -33,8 +37,8 @@ static int parse_args(int argc, char **argv, struct options *o)
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "-o") == 0 && i + 1 < argc)
             o->out_path = argv[++i];
-        else if (strcmp(argv[i], "--compare") == 0 && i + 1 < argc)
-            o->compare_path = argv[++i];
+        else if (strcmp(argv[i], "--compare") == 0 && i + 1 < argc && !o->compare_path[1])
+            o->compare_path[o->compare_path[0] != NULL] = argv[++i];
         else if (strcmp(argv[i], "--backend") == 0 && i + 1 < argc)
             o->backend = argv[++i];
         else if (strcmp(argv[i], "--device") == 0 && i + 1 < argc)
@@ -92,20 +96,41 @@ static int format_from_path(const char *path, lucent_format *out)
     return 0;
 }
 
-/* Prints {"compare": {...}} for the rendered image against a reference EXR. */
-static int print_comparison(const lucent_image *img, const char *ref_path)
+/* mean = (mean + other) / 2 in RGB; the two are the same size. */
+static void average_into(lucent_image *mean, const lucent_image *other)
 {
-    lucent_image ref = {0};
+    for (size_t i = 0; i < (size_t)mean->width * mean->height * 4; i++)
+        if (i % 4 != 3)
+            mean->rgba[i] = 0.5f * (mean->rgba[i] + other->rgba[i]);
+}
+
+/* Prints {"compare": {...}} for the rendered image against a reference EXR or, given two, against their
+ * mean, with "without_noise": the error against the truth both estimate (lucent_image_compare_noisy). */
+static int print_comparison(const lucent_image *img, const char *const ref_path[2])
+{
+    lucent_image ref[2] = {{0}};
     lucent_image_error e;
+    lucent_noisy_error n = {0};
     lucent_error err = {0};
     char buf[1024];
-    int ok = lucent_image_load(ref_path, &ref, &err) == LUCENT_OK &&
-             lucent_image_compare(img, &ref, &e, &err) == LUCENT_OK && lucent_image_error_json(&e, buf, sizeof buf) > 0;
-    if (ok)
+    int ok = lucent_image_load(ref_path[0], &ref[0], &err) == LUCENT_OK &&
+             (!ref_path[1] || lucent_image_load(ref_path[1], &ref[1], &err) == LUCENT_OK) &&
+             (!ref_path[1] || lucent_image_compare_noisy(img, &ref[0], &ref[1], &n, &err) == LUCENT_OK);
+    if (ok && ref_path[1])
+        average_into(&ref[0], &ref[1]);
+    ok = ok && lucent_image_compare(img, &ref[0], &e, &err) == LUCENT_OK && lucent_image_error_json(&e, buf, sizeof buf) > 0;
+    if (ok && ref_path[1] && isfinite(n.noise))
+        printf("{\"compare\":%s,\"without_noise\":{\"rel_l2\":%.6g,\"low\":%.6g,\"high\":%.6g,\"noise\":%.6g}}\n",
+               buf, n.rel_l2, n.rel_l2_low, n.rel_l2_high, n.noise);
+    else if (ok && ref_path[1])  /* black truths: no relative error, and %g would print nan, not JSON */
+        printf("{\"compare\":%s,\"without_noise\":null}\n", buf);
+    else if (ok)
         printf("{\"compare\":%s}\n", buf);
     else
-        fprintf(stderr, "lucent-render: cannot compare with %s: %s\n", ref_path, err.message);
-    lucent_image_free(&ref);
+        fprintf(stderr, "lucent-render: cannot compare with %s%s%s: %s\n", ref_path[0], ref_path[1] ? " and " : "",
+                ref_path[1] ? ref_path[1] : "", err.message);
+    lucent_image_free(&ref[0]);
+    lucent_image_free(&ref[1]);
     return ok ? 0 : -1;
 }
 
@@ -166,7 +191,7 @@ int main(int argc, char **argv)
         if (lucent_stats_json(&stats, buf, sizeof buf) > 0)
             puts(buf);
     }
-    rc = o.compare_path && print_comparison(&img, o.compare_path) != 0 ? 1 : 0;
+    rc = o.compare_path[0] && print_comparison(&img, o.compare_path) != 0 ? 1 : 0;
 done:
     lucent_image_free(&img);
     lucent_renderer_destroy(r);

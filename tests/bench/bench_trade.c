@@ -83,18 +83,30 @@ struct case_id {
     int size, mesh, light, material;
 };
 
+/* An image against method "path": the measures against the walks' image, and rel L2 with the walks' noise
+ * cancelled (lucent_image_compare_noisy against the two halves the image is the mean of). */
+struct against_path {
+    lucent_image_error e;
+    lucent_noisy_error clean;
+};
+
 struct result {
     double ms[T_COUNT];  /* medians over the timed frames */
     lucent_image_error e;
-    lucent_image_error path;  /* against method "path" (with --path) */
+    struct against_path path;  /* with --path */
 };
 
 /* With --path, per case: the walks' own noise and time, and every profile's reference against them, and
  * the dipole's with single scattering (Jensen et al.'s whole BSSRDF; the walks have every order). */
 struct path_case {
     double noise, ms;
-    lucent_image_error reference[LUCENT_PROFILE_DEFAULT];
-    lucent_image_error reference_single;
+    struct against_path reference[LUCENT_PROFILE_DEFAULT];
+    struct against_path reference_single;
+};
+
+/* Method "path" as two independent halves of the walks (seeds 1 and 2) and their mean, with AOVs. */
+struct walks {
+    lucent_image mean, half[2];
 };
 
 /* One mode at one size, summarized over every case (medians). */
@@ -145,8 +157,9 @@ static int usage(void)
                     "  --meshes, --lights, --modes: only these (comma-separated names as in the report, default all;\n"
                     "  the paper's claim and the cube table need the side light and their modes);\n"
                     "  B: vulkan, gl or auto (bench_table2 compares backends within one run);\n"
-                    "  --path: also render method path (boundary fresnel, WALKS walks a pixel and channel) per\n"
-                    "  case and score every mode and every profile's reference against it: OUT_PREFIX_path.csv,\n"
+                    "  --path: also render method path (boundary fresnel, WALKS walks a pixel and channel, even: two\n"
+                    "  halves under seeds 1 and 2, so their noise cancels in the error) per case and score every\n"
+                    "  mode and every profile's reference against it: OUT_PREFIX_path.csv,\n"
                     "  a section of OUT_PREFIX.md and OUT_PREFIX_path_summary.tsv (plot_trade.sh ... path)\n");
     return 2;
 }
@@ -212,7 +225,7 @@ static int parse_options(int argc, char **argv, struct options *o)
         } else if (strcmp(argv[i], "--path") == 0 && i + 1 < argc) {
             char *end;
             long w = strtol(argv[++i], &end, 10);
-            if (*end || w < 1 || w > (long)LUCENT_MAX_PATH_SAMPLES)
+            if (*end || w < 2 || w % 2 || w > (long)LUCENT_MAX_PATH_SAMPLES)
                 return -1;
             o->path_walks = (int)w;
         } else if (strcmp(argv[i], "--modes") == 0 && i + 1 < argc) {
@@ -312,28 +325,50 @@ static lucent_status render_reference(lucent_renderer *r, const struct options *
     return LUCENT_OK;
 }
 
-/* Method "path" for one case (boundary fresnel), with its relative standard error and time. */
-static lucent_status render_path(lucent_renderer *r, const struct options *o, int index, lucent_image *img,
+/* Method "path" for one case (boundary fresnel), half the walks with seed 1 and half with seed 2, their
+ * mean, its noise (from the halves' difference) and the time of both. */
+static lucent_status render_path(lucent_renderer *r, const struct options *o, int index, struct walks *w,
                                  struct path_case *pc, lucent_error *err)
 {
-    char fragment[128];
-    snprintf(fragment, sizeof fragment, "\"method\":\"path\",\"path\":{\"samples\":%d},\"format\":\"exr\"",
-             o->path_walks);
-    lucent_scene s;
-    lucent_stats stats;
-    lucent_status st = make_scene(o, case_of(index), fragment, &s, err);
+    lucent_image *out[2] = {&w->mean, &w->half[1]};
+    lucent_status st = LUCENT_OK;
+    pc->ms = 0.0;
+    for (int k = 0; k < 2 && st == LUCENT_OK; k++) {
+        char fragment[128];
+        snprintf(fragment, sizeof fragment,
+                 "\"method\":\"path\",\"path\":{\"samples\":%d,\"seed\":%d},\"format\":\"exr\"", o->path_walks / 2,
+                 k + 1);
+        lucent_scene s;
+        lucent_stats stats;
+        st = make_scene(o, case_of(index), fragment, &s, err);
+        if (st == LUCENT_OK)
+            st = lucent_render(r, &s, out[k], &stats, err);
+        pc->ms += st == LUCENT_OK ? stats.ms_total : 0.0;
+    }
     if (st == LUCENT_OK)
-        st = lucent_render(r, &s, img, &stats, err);
+        st = lucent_image_alloc(&w->half[0], w->mean.width, w->mean.height, 0, err);
     if (st != LUCENT_OK)
         return st;
-    const char *at = strstr(stats.modelled, "\"rel_std_error\":");
-    pc->noise = at ? atof(at + strlen("\"rel_std_error\":")) : NAN;
-    pc->ms = stats.ms_total;
+    size_t values = (size_t)w->mean.width * w->mean.height * 4;
+    memcpy(w->half[0].rgba, w->mean.rgba, values * sizeof *w->mean.rgba);
+    for (size_t i = 0; i < values; i++)
+        if (i % 4 != 3)
+            w->mean.rgba[i] = 0.5f * (w->half[0].rgba[i] + w->half[1].rgba[i]);
+    lucent_noisy_error walks_noise;
+    st = lucent_image_compare_noisy(NULL, &w->half[0], &w->half[1], &walks_noise, err);
+    pc->noise = walks_noise.noise;
     char label[128];
     case_label(index, label, sizeof label);
-    fprintf(stderr, "bench_trade: %d %s: path, %d walks, %.0f ms, relative standard error %.3g\n",
-            sizes[case_of(index).size], label, o->path_walks, pc->ms, pc->noise);
-    return LUCENT_OK;
+    fprintf(stderr, "bench_trade: %d %s: path, %d walks, %.0f ms, noise %.3g\n", sizes[case_of(index).size], label,
+            o->path_walks, pc->ms, pc->noise);
+    return st;
+}
+
+static lucent_status compare_to_walks(const lucent_image *test, const struct walks *w, struct against_path *out,
+                                      lucent_error *err)
+{
+    lucent_status st = lucent_image_compare(test, &w->mean, &out->e, err);
+    return st == LUCENT_OK ? lucent_image_compare_noisy(test, &w->half[0], &w->half[1], &out->clean, err) : st;
 }
 
 /* Renders every mode of one case, each scored against the reference of the profile it reports it
@@ -342,7 +377,8 @@ static lucent_status render_path(lucent_renderer *r, const struct options *o, in
 static lucent_status run_case(lucent_renderer *r, const struct options *o, int index, struct result *row,
                               struct path_case *pc, struct outputs *out, lucent_error *err)
 {
-    lucent_image ref[2][LUCENT_PROFILE_DEFAULT] = {{{0}}}, path = {0};
+    lucent_image ref[2][LUCENT_PROFILE_DEFAULT] = {{{0}}};
+    struct walks path = {0};
     lucent_scene s;
     lucent_status st = o->path_walks ? render_path(r, o, index, &path, pc, err) : LUCENT_OK;
     for (int m = 0; m < MODES && st == LUCENT_OK; m++) {
@@ -361,7 +397,7 @@ static lucent_status run_case(lucent_renderer *r, const struct options *o, int i
         if (st == LUCENT_OK)
             st = lucent_image_compare(&last, reference, &row[m].e, err);
         if (st == LUCENT_OK && o->path_walks)
-            st = lucent_image_compare(&last, &path, &row[m].path, err);
+            st = compare_to_walks(&last, &path, &row[m].path, err);
         lucent_image_free(&last);
         if (st == LUCENT_OK)
             write_csv_row(out->csv, index, m, &row[m]);
@@ -370,17 +406,19 @@ static lucent_status run_case(lucent_renderer *r, const struct options *o, int i
         if (!ref[0][p].rgba)
             st = render_reference(r, o, index, 0, (lucent_profile)p, &ref[0][p], err);
         if (st == LUCENT_OK)
-            st = lucent_image_compare(&ref[0][p], &path, &pc->reference[p], err);
+            st = compare_to_walks(&ref[0][p], &path, &pc->reference[p], err);
     }
     lucent_image *with_single = &ref[1][LUCENT_PROFILE_DIPOLE];
     if (o->path_walks && st == LUCENT_OK && !with_single->rgba)
         st = render_reference(r, o, index, 1, LUCENT_PROFILE_DIPOLE, with_single, err);
     if (o->path_walks && st == LUCENT_OK)
-        st = lucent_image_compare(with_single, &path, &pc->reference_single, err);
+        st = compare_to_walks(with_single, &path, &pc->reference_single, err);
     fflush(out->csv);
     for (int k = 0; k < 2 * LUCENT_PROFILE_DEFAULT; k++)
         lucent_image_free(&ref[k / LUCENT_PROFILE_DEFAULT][k % LUCENT_PROFILE_DEFAULT]);
-    lucent_image_free(&path);
+    lucent_image_free(&path.mean);
+    lucent_image_free(&path.half[0]);
+    lucent_image_free(&path.half[1]);
     return st;
 }
 
@@ -529,20 +567,13 @@ static int modes_selected(const struct options *o, const char *a, const char *b)
     return ((o->modes >> mode_named(a)) & 1u) && ((o->modes >> mode_named(b)) & 1u);
 }
 
-/* The error left once the walks' own noise is taken out: sqrt(rel_l2^2 - noise^2), 0 below it. */
-static double without_noise(double rel_l2, double noise)
-{
-    double d = rel_l2 * rel_l2 - noise * noise;
-    return d > 0.0 ? sqrt(d) : 0.0;
-}
-
-static void write_path_row(FILE *csv, int index, const char *what, const char *profile, const lucent_image_error *e,
+static void write_path_row(FILE *csv, int index, const char *what, const char *profile, const struct against_path *a,
                            const struct path_case *pc, double ms)
 {
     struct case_id c = case_of(index);
-    fprintf(csv, "%s,%s,%s,%d,%s,%s,%.6g,%.6g,%.6g,%.6g,%.3f\n", meshes[c.mesh].name, lights[c.light].name,
-            materials[c.material], sizes[c.size], what, profile, e->object.rel_l2,
-            without_noise(e->object.rel_l2, pc->noise), e->mean_ratio, pc->noise, ms);
+    fprintf(csv, "%s,%s,%s,%d,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.3f\n", meshes[c.mesh].name,
+            lights[c.light].name, materials[c.material], sizes[c.size], what, profile, a->e.object.rel_l2,
+            a->clean.rel_l2, a->clean.rel_l2_low, a->clean.rel_l2_high, a->e.mean_ratio, pc->noise, ms);
 }
 
 /* One line of the table against path: medians over the selected cases of size z. what: a mode, or -1 - p
@@ -552,20 +583,23 @@ enum { WHAT_WALKS = -1 - LUCENT_PROFILE_DEFAULT, WHAT_SINGLE = -2 - LUCENT_PROFI
 static void write_path_line(const struct options *o, const struct result *res, const struct path_case *pcs, int z,
                             int what, double *scratch, const struct outputs *out)
 {
-    double *ms = scratch, *l2 = ms + CASES_PER_SIZE, *clean = l2 + CASES_PER_SIZE, *ratio = clean + CASES_PER_SIZE;
-    int n = 0, first = case_index(z, 0, 0, 0);
+    double *ms = scratch, *l2 = ms + CASES_PER_SIZE, *clean = l2 + CASES_PER_SIZE, *high = clean + CASES_PER_SIZE;
+    double *ratio = high + CASES_PER_SIZE;
+    int n = 0, resolved = 0, first = case_index(z, 0, 0, 0);
     for (int i = first; i < first + CASES_PER_SIZE; i++) {
         if (!case_selected(o, i))
             continue;
         const struct path_case *pc = &pcs[i];
-        const lucent_image_error *e = what >= 0             ? &res[i * MODES + what].path
-                                      : what == WHAT_SINGLE ? &pc->reference_single
-                                                            : &pc->reference[-1 - what];
+        const struct against_path *a = what >= 0             ? &res[i * MODES + what].path
+                                       : what == WHAT_SINGLE ? &pc->reference_single
+                                                             : &pc->reference[-1 - what];
         int walks = what == WHAT_WALKS;
         ms[n] = what >= 0 ? res[i * MODES + what].ms[T_TOTAL] : walks ? pc->ms : 0.0;
-        l2[n] = walks ? pc->noise : e->object.rel_l2;
-        clean[n] = walks ? 0.0 : without_noise(e->object.rel_l2, pc->noise);
-        ratio[n] = walks ? 1.0 : e->mean_ratio;
+        l2[n] = walks ? pc->noise : a->e.object.rel_l2;
+        clean[n] = walks ? 0.0 : a->clean.rel_l2;
+        high[n] = walks ? 0.0 : a->clean.rel_l2_high;
+        resolved += !walks && a->clean.rel_l2_low > 0.0;
+        ratio[n] = walks ? 1.0 : a->e.mean_ratio;
         n++;
     }
     char name[64];
@@ -582,8 +616,8 @@ static void write_path_line(const struct options *o, const struct result *res, c
     char ms_text[32] = "-";
     if (timed)
         snprintf(ms_text, sizeof ms_text, "%.1f", median_ms);
-    emit(out->md, "| %s | %s | %.4f | %.4f | %.4f |\n", name, ms_text, bench_median(l2, n), median_clean,
-         bench_median(ratio, n));
+    emit(out->md, "| %s | %s | %.4f | %.4f | %.4f | %d of %d | %.4f |\n", name, ms_text, bench_median(l2, n),
+         median_clean, bench_median(high, n), resolved, n, bench_median(ratio, n));
     if (what >= 0)
         fprintf(out->path_tsv, "%d\t%s\t%.3f\t%.6g\t%.6g\t0\n", sizes[z], name, median_ms, median_clean,
                 bench_median(l2, n));
@@ -593,7 +627,8 @@ static void write_path_line(const struct options *o, const struct result *res, c
 static void write_path_report(const struct options *o, const struct result *res, const struct path_case *pcs,
                               const struct outputs *out, double *scratch)
 {
-    fprintf(out->path_csv, "scene,light,material,size,what,profile,rel_l2,rel_l2_without_noise,mean_ratio,path_noise,ms\n");
+    fprintf(out->path_csv, "scene,light,material,size,what,profile,rel_l2,rel_l2_without_noise,"
+                          "without_noise_low,without_noise_high,mean_ratio,path_noise,ms\n");
     fprintf(out->path_tsv, "size\tmode\tms\trel_l2\tband_rel_l2\tpareto\n");
     for (int i = 0; i < o->size_count * CASES_PER_SIZE; i++) {
         if (!case_selected(o, i))
@@ -609,12 +644,17 @@ static void write_path_report(const struct options *o, const struct result *res,
                        NAN);
     }
     emit(out->md, "\n## Against method \"path\" (%d walks a pixel and channel, boundary fresnel)\n\n"
-                  "Medians over the same cases; \"w/o noise\" is sqrt(rel L2^2 - noise^2), the error left once the "
-                  "walks' own noise (their relative standard error) is taken out. The modes' mean ratio is their "
-                  "mean radiance over the walks'.\n", o->path_walks);
+                  "Medians over the same cases. The walks are two independent halves (seeds 1 and 2) and "
+                  "\"rel L2\" is against their mean, which adds the walks' noise (the path row: ||(a - b) / 2|| / "
+                  "||truth||); \"w/o noise\" is sqrt(sum (test - a).(test - b) / sum a.b), in which the halves' "
+                  "noise cancels in expectation; \"high\" is the same with the sum 2 standard errors higher (its "
+                  "spread over 64 lattices of every 8th pixel), a bound on the error; \"resolved\" counts the cases "
+                  "whose error stands 2 standard errors above the noise (the rest read 0 or near it because the "
+                  "walks cannot tell). The modes' mean ratio is their mean radiance over the walks'.\n",
+         o->path_walks);
     for (int z = 0; z < o->size_count; z++) {
         emit(out->md, "\n### %dx%d against path\n\n| mode | median ms | median rel L2 | median w/o noise "
-                      "| median mean ratio |\n|---|---|---|---|---|\n", sizes[z], sizes[z]);
+                      "| median high | resolved | median mean ratio |\n|---|---|---|---|---|---|---|\n", sizes[z], sizes[z]);
         write_path_line(o, res, pcs, z, WHAT_WALKS, scratch, out);
         for (int p = 0; p < LUCENT_PROFILE_DEFAULT; p++)
             write_path_line(o, res, pcs, z, -1 - p, scratch, out);

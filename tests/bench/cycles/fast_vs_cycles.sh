@@ -11,7 +11,9 @@
 # converged image is its noise, rel L2 between the two / sqrt(2) (unbiased: the same estimator, other samples).
 # Lucent: the method's warm frame (bench_frames, median of 7: what a warm lucentd spends on a request) and
 # lucent-render's cold run (start, shader compile, one frame); its error against method "path" (boundary fresnel,
-# the physics the method models), with the walks' own noise taken out: sqrt(rel L2^2 - path noise^2).
+# the physics the method models; two halves of the walks under seeds 1 and 2, the error against their mean), and
+# with the walks' noise cancelled (lucent-render --compare given both halves: sqrt(sum (test - a).(test - b) /
+# sum a.b), with its interval of 2 standard errors).
 # Time ratio: Cycles' render (bpy render call: scene sync, BVH, sampling; not Blender's start) over the warm
 # frame, and process over process. Prints a Markdown table, writes DIR/fast_vs_cycles.md. Not part of CI.
 set -euo pipefail
@@ -33,12 +35,13 @@ while [ $# -gt 0 ]; do
         --method) method="$2"; shift 2 ;;
         --scene) scenes+=("$2"); shift 2 ;;
         --blender) blender="$2"; shift 2 ;;
-        -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+        -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
         *) die "unknown argument $1 (see --help)" ;;
     esac
 done
 require_inputs
 [ -n "$frames" ] && [ -x "$frames" ] || die "--bench-frames PATH (build/tests/bench/bench_frames) is required"
+(( walks >= 2 && walks % 2 == 0 )) || die "--walks must be even and at least 2 (two halves)"
 command -v oiiotool >/dev/null || die "oiiotool not found (apt-get install openimageio-tools)"
 default_scenes marble skin1
 write_scenes
@@ -47,10 +50,10 @@ cpu="$(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1)"
 table="$out/fast_vs_cycles.md"
 {
     echo "CPU: $cpu, $(nproc) threads; $("$blender" --version 2>/dev/null | head -1); ${size}x${size};" \
-         "Cycles $samples samples/pixel (sss node), seeds 0 and 1; Lucent \`$method\` (dipole); path $walks walks, boundary fresnel."
+         "Cycles $samples samples/pixel (sss node), seeds 0 and 1; Lucent \`$method\` (dipole); path $walks walks in two halves (seeds 1, 2), boundary fresnel."
     echo
-    echo "| scene | Cycles render s | Cycles process s | Cycles noise (rel L2) | $method warm ms | $method process s | $method rel L2 vs path | w/o path noise | path noise | render ratio | process ratio |"
-    echo "|---|---|---|---|---|---|---|---|---|---|---|"
+    echo "| scene | Cycles render s | Cycles process s | Cycles noise (rel L2) | $method warm ms | $method process s | $method rel L2 vs path | w/o path noise | its bound (2 standard errors) | path noise | render ratio | process ratio |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 } > "$table"
 for name in "${scenes[@]}"; do
     dir="$out/$name"
@@ -67,27 +70,31 @@ for name in "${scenes[@]}"; do
     ref2=$(squares "$dir/cycles$samples.1.exr")
     cyc_noise=$(awk -v d="$diff2" -v r="$ref2" 'BEGIN { printf "%.4f", sqrt(d / r / 2) }')
 
-    # The walks are the slow part: kept while their scene document is unchanged.
-    variant "$base" "method=\"path\"" "path={\"samples\":$walks,\"boundary\":\"fresnel\",\"seed\":1}" |
-        write_if_changed "$dir/path.json"
-    [ -s "$dir/path.exr" ] && [ "$dir/path.exr" -nt "$dir/path.json" ] ||
-        "$lucent" "$dir/path.json" -o "$dir/path.exr" --stats > "$dir/path.stats" 2> "$dir/path.log"
-    path_noise=$(field "$dir/path.stats" rel_std_error)
+    # The walks are the slow part: kept while their scene documents are unchanged.
+    for seed in 1 2; do
+        variant "$base" "method=\"path\"" "path={\"samples\":$((walks / 2)),\"boundary\":\"fresnel\",\"seed\":$seed}" |
+            write_if_changed "$dir/path$seed.json"
+        [ -s "$dir/path$seed.exr" ] && [ "$dir/path$seed.exr" -nt "$dir/path$seed.json" ] ||
+            "$lucent" "$dir/path$seed.json" -o "$dir/path$seed.exr" --stats > "$dir/path$seed.stats" 2> "$dir/path$seed.log"
+    done
 
     variant "$base" "method=\"$method\"" > "$dir/$method.json"
     t0=$(now)
-    "$lucent" "$dir/$method.json" -o "$dir/$method.exr" --compare "$dir/path.exr" > "$dir/$method.cmp" 2> "$dir/$method.log"
+    "$lucent" "$dir/$method.json" -o "$dir/$method.exr" --compare "$dir/path1.exr" --compare "$dir/path2.exr" \
+        > "$dir/$method.cmp" 2> "$dir/$method.log"
     t1=$(now)
     fast_wall=$(secs "$t0" "$t1")
     rel=$(field "$dir/$method.cmp" rel_l2)
+    without_noise=$(grep -o '"without_noise":.*' "$dir/$method.cmp")
+    clean=$(field <(echo "$without_noise") rel_l2) high=$(field <(echo "$without_noise") high)
+    path_noise=$(field <(echo "$without_noise") noise)
     "$frames" 7 "$dir/$method.frames.md" "$dir/$method.json" > /dev/null 2>> "$dir/$method.log"
     device=$(head -1 "$dir/$method.frames.md")
     warm=$(awk -F'|' 'NF > 4 && $2 != " scene " && $2 !~ /^-+$/ { gsub(/ /, "", $3); print $3 }' "$dir/$method.frames.md")
     row=$(awk -v n="$name" -v cs="${cyc_s[0]}" -v cw="${cyc_wall[0]}" -v cn="$cyc_noise" -v w="$warm" \
-              -v fw="$fast_wall" -v r="$rel" -v pn="$path_noise" 'BEGIN {
-        clean = r * r > pn * pn ? sqrt(r * r - pn * pn) : 0
-        printf "| %s | %.2f | %.2f | %.4f | %.1f | %.2f | %.4f | %.4f | %.4f | %.0fx | %.1fx |", n, cs, cw, cn, w, fw, r,
-               clean, pn, cs * 1000 / w, cw / fw }')
+              -v fw="$fast_wall" -v r="$rel" -v c="$clean" -v h="$high" -v pn="$path_noise" 'BEGIN {
+        printf "| %s | %.2f | %.2f | %.4f | %.1f | %.2f | %.4f | %.4f | %.4f | %.4f | %.0fx | %.1fx |", n, cs, cw, cn, w,
+               fw, r, c, h, pn, cs * 1000 / w, cw / fw }')
     echo "$row" >> "$table"
     echo "$row"
 done
