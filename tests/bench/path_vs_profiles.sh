@@ -54,10 +54,13 @@ for mesh in "{\"file\":\"$bunny\"}" '{"builtin":"sphere"}'; do
                     "$bin" "$dir/m.json" -o "$dir/$method-$profile.exr" --compare "$dir/path1.exr" \
                         --compare "$dir/path2.exr" > "$dir/m.cmp"
                     l2=$(field "$dir/m.cmp" rel_l2) ratio=$(field "$dir/m.cmp" mean_ratio)
-                    wn=$(grep -o '"without_noise":.*' "$dir/m.cmp")
-                    clean=$(grep -o '"rel_l2":[-0-9.e+]*' <<<"$wn" | cut -d: -f2)
-                    interval="$(grep -o '"low":[-0-9.e+]*' <<<"$wn" | cut -d: -f2)-$(grep -o '"high":[-0-9.e+]*' <<<"$wn" | cut -d: -f2)"
-                    noise=$(grep -o '"noise":[-0-9.e+]*' <<<"$wn" | cut -d: -f2)
+                    # "without_noise" is null where the walks are black (too few of them): "-" then.
+                    grep -o '"without_noise":.*' "$dir/m.cmp" > "$dir/wn" || true
+                    clean=$(field "$dir/wn" rel_l2 || true) low=$(field "$dir/wn" low || true)
+                    high=$(field "$dir/wn" high || true) noise=$(field "$dir/wn" noise || true)
+                    interval="$low-$high"
+                    [[ -n $low ]] || interval=-
+                    clean=${clean:--} noise=${noise:--}
                     row="${row/NOISE/$noise} | $l2 | $clean | $interval | $ratio"
                     echo "$profile $method $l2 $clean $ratio" >> "$dir/rows"
                 done
@@ -80,12 +83,13 @@ done
     echo "|---|---|---|---|---|"
     for profile in $profiles; do
         for method in reference five; do
-            awk -v p="$profile" -v m="$method" '$1 == p && $2 == m { l2[n] = $3; c[n] = $4; r[n++] = $5 }
+            awk -v p="$profile" -v m="$method" '$1 == p && $2 == m { l2[n] = $3; r[n++] = $5 }
+                $1 == p && $2 == m && $4 != "-" { c[nc++] = $4 }
                 function median(a, n,    i, j, t) {
                     for (i = 0; i < n; i++) for (j = i + 1; j < n; j++) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
                     return n % 2 ? a[(n - 1) / 2] : (a[n / 2 - 1] + a[n / 2]) / 2
                 }
-                END { printf "| %s | %s | %.3f | %.3f | %.3f |\n", p, m, median(l2, n), median(c, n), median(r, n) }' "$dir/rows"
+                END { printf "| %s | %s | %.3f | %.3f | %.3f |\n", p, m, median(l2, n), median(c, nc), median(r, n) }' "$dir/rows"
         done
     done
 } | tee -a "$out"

@@ -85,15 +85,16 @@ for name in "${scenes[@]}"; do
     t1=$(now)
     fast_wall=$(secs "$t0" "$t1")
     rel=$(field "$dir/$method.cmp" rel_l2)
-    without_noise=$(grep -o '"without_noise":.*' "$dir/$method.cmp")
-    clean=$(field <(echo "$without_noise") rel_l2) high=$(field <(echo "$without_noise") high)
-    path_noise=$(field <(echo "$without_noise") noise)
+    # "without_noise" is null where the walks are black (too few of them): "-" then.
+    grep -o '"without_noise":.*' "$dir/$method.cmp" > "$dir/$method.wn" || true
+    clean=$(field "$dir/$method.wn" rel_l2 || true) high=$(field "$dir/$method.wn" high || true)
+    path_noise=$(field "$dir/$method.wn" noise || true)
     "$frames" 7 "$dir/$method.frames.md" "$dir/$method.json" > /dev/null 2>> "$dir/$method.log"
     device=$(head -1 "$dir/$method.frames.md")
     warm=$(awk -F'|' 'NF > 4 && $2 != " scene " && $2 !~ /^-+$/ { gsub(/ /, "", $3); print $3 }' "$dir/$method.frames.md")
     row=$(awk -v n="$name" -v cs="${cyc_s[0]}" -v cw="${cyc_wall[0]}" -v cn="$cyc_noise" -v w="$warm" \
-              -v fw="$fast_wall" -v r="$rel" -v c="$clean" -v h="$high" -v pn="$path_noise" 'BEGIN {
-        printf "| %s | %.2f | %.2f | %.4f | %.1f | %.2f | %.4f | %.4f | %.4f | %.4f | %.0fx | %.1fx |", n, cs, cw, cn, w,
+              -v fw="$fast_wall" -v r="$rel" -v c="${clean:--}" -v h="${high:--}" -v pn="${path_noise:--}" 'BEGIN {
+        printf "| %s | %.2f | %.2f | %.4f | %.1f | %.2f | %.4f | %s | %s | %s | %.0fx | %.1fx |", n, cs, cw, cn, w,
                fw, r, c, h, pn, cs * 1000 / w, cw / fw }')
     echo "$row" >> "$table"
     echo "$row"
