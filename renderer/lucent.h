@@ -265,6 +265,9 @@ typedef struct lucent_noisy_error {
  * NAN where sum a.b <= 0. */
 lucent_status lucent_image_compare_noisy(const lucent_image *test, const lucent_image *a, const lucent_image *b,
                                          lucent_noisy_error *out, lucent_error *err);
+/* into = (into + other) / 2 in RGB, alpha and AOVs kept: the mean of two such estimates, for the
+ * measures against it. LUCENT_E_INVALID where the two differ in size. */
+lucent_status lucent_image_average(lucent_image *into, const lucent_image *other, lucent_error *err);
 /* Writes the measures as one JSON object; returns the length or -1 if cap is too small. */
 int lucent_image_error_json(const lucent_image_error *e, char *buf, size_t cap);
 

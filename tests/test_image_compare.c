@@ -308,6 +308,30 @@ static void check_noise_hides_error(const lucent_image *truth, lucent_image *a, 
                n.rel_l2, n.rel_l2_low, n.rel_l2_high);
 }
 
+/* lucent_image_average on the smooth image and 1.1 times it: RGB 1.05 times the truth, alpha kept;
+ * another size refused. */
+static void check_average(const lucent_image *truth, const lucent_image *brighter, const lucent_image *small)
+{
+    lucent_image mean;
+    lucent_error err = {0};
+    copy_image(truth, &mean);
+    lucent_status st = lucent_image_average(&mean, brighter, &err);
+    double worst = 0.0;
+    int alpha_kept = 1;
+    for (int k = 0; k < W * H * 4; k++) {
+        if (k % 4 == 3)
+            alpha_kept &= mean.rgba[k] == truth->rgba[k];
+        else
+            worst = fmax(worst, fabs(mean.rgba[k] - 1.05 * truth->rgba[k]));
+    }
+    test_check(st == LUCENT_OK && worst < 1e-6 && alpha_kept &&
+                   lucent_image_average(&mean, small, &err) == LUCENT_E_INVALID,
+               "average of the truth and 1.1 times it: worst difference from 1.05 times %.2g (below 1e-6), alpha "
+               "kept %d, another size refused: %s",
+               worst, alpha_kept, err.message);
+    lucent_image_free(&mean);
+}
+
 static void check_noisy_truth(void)
 {
     lucent_image truth, a, b, test;
@@ -337,6 +361,7 @@ static void check_noisy_truth(void)
     lucent_image_alloc(&small, 8, 8, 0, &err);
     test_check(lucent_image_compare_noisy(&test, &a, &small, &n, &err) == LUCENT_E_INVALID,
                "size mismatch refused: %s", err.message);
+    check_average(&truth, &test, &small);
     lucent_image *all[] = {&truth, &a, &b, &test, &small};
     for (int i = 0; i < 5; i++)
         lucent_image_free(all[i]);

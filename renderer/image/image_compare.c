@@ -212,10 +212,11 @@ lucent_status lucent_image_compare_noisy(const lucent_image *test, const lucent_
     for (size_t i = 0; i < (size_t)a->width * a->height; i++) {
         if (!covered(a, i) || !covered(b, i) || (test && !covered(test, i)))
             continue;
+        size_t px = i % (size_t)a->width, py = i / (size_t)a->width;
+        double *subset = &cross[px % NOISY_LATTICE + NOISY_LATTICE * (py % NOISY_LATTICE)];
         for (int c = 0; c < 3; c++) {
             double x = a->rgba[i * 4 + c], y = b->rgba[i * 4 + c], t = test ? test->rgba[i * 4 + c] : 0.0;
-            size_t px = i % (size_t)a->width, py = i / (size_t)a->width;
-            cross[px % NOISY_LATTICE + NOISY_LATTICE * (py % NOISY_LATTICE)] += (t - x) * (t - y);
+            *subset += (t - x) * (t - y);
             truth2 += x * y;
             half_diff2 += 0.25 * (x - y) * (x - y);
         }
@@ -234,6 +235,16 @@ lucent_status lucent_image_compare_noisy(const lucent_image *test, const lucent_
     out->rel_l2 = noisy_sqrt_ratio(sum, truth2);
     out->rel_l2_low = noisy_sqrt_ratio(sum - 2.0 * standard_error, truth2);
     out->rel_l2_high = noisy_sqrt_ratio(sum + 2.0 * standard_error, truth2);
+    return LUCENT_OK;
+}
+
+lucent_status lucent_image_average(lucent_image *into, const lucent_image *other, lucent_error *err)
+{
+    if (!same_size(into, other))
+        return lucent_fail(err, LUCENT_E_INVALID, "average", "images differ in size or are missing");
+    for (size_t i = 0; i < (size_t)into->width * into->height * 4; i++)
+        if (i % 4 != 3)
+            into->rgba[i] = 0.5f * (into->rgba[i] + other->rgba[i]);
     return LUCENT_OK;
 }
 

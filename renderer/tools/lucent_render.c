@@ -96,14 +96,6 @@ static int format_from_path(const char *path, lucent_format *out)
     return 0;
 }
 
-/* mean = (mean + other) / 2 in RGB; the two are the same size. */
-static void average_into(lucent_image *mean, const lucent_image *other)
-{
-    for (size_t i = 0; i < (size_t)mean->width * mean->height * 4; i++)
-        if (i % 4 != 3)
-            mean->rgba[i] = 0.5f * (mean->rgba[i] + other->rgba[i]);
-}
-
 /* Prints {"compare": {...}} for the rendered image against a reference EXR or, given two, against their
  * mean, with "without_noise": the error against the truth both estimate (lucent_image_compare_noisy). */
 static int print_comparison(const lucent_image *img, const char *const ref_path[2])
@@ -115,10 +107,10 @@ static int print_comparison(const lucent_image *img, const char *const ref_path[
     char buf[1024];
     int ok = lucent_image_load(ref_path[0], &ref[0], &err) == LUCENT_OK &&
              (!ref_path[1] || lucent_image_load(ref_path[1], &ref[1], &err) == LUCENT_OK) &&
-             (!ref_path[1] || lucent_image_compare_noisy(img, &ref[0], &ref[1], &n, &err) == LUCENT_OK);
-    if (ok && ref_path[1])
-        average_into(&ref[0], &ref[1]);
-    ok = ok && lucent_image_compare(img, &ref[0], &e, &err) == LUCENT_OK && lucent_image_error_json(&e, buf, sizeof buf) > 0;
+             (!ref_path[1] || (lucent_image_compare_noisy(img, &ref[0], &ref[1], &n, &err) == LUCENT_OK &&
+                               lucent_image_average(&ref[0], &ref[1], &err) == LUCENT_OK)) &&
+             lucent_image_compare(img, &ref[0], &e, &err) == LUCENT_OK &&
+             lucent_image_error_json(&e, buf, sizeof buf) > 0;
     if (ok && ref_path[1] && isfinite(n.noise))
         printf("{\"compare\":%s,\"without_noise\":{\"rel_l2\":%.6g,\"low\":%.6g,\"high\":%.6g,\"noise\":%.6g}}\n",
                buf, n.rel_l2, n.rel_l2_low, n.rel_l2_high, n.noise);

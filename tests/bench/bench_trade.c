@@ -351,11 +351,10 @@ static lucent_status render_path(lucent_renderer *r, const struct options *o, in
         return st;
     size_t values = (size_t)w->mean.width * w->mean.height * 4;
     memcpy(w->half[0].rgba, w->mean.rgba, values * sizeof *w->mean.rgba);
-    for (size_t i = 0; i < values; i++)
-        if (i % 4 != 3)
-            w->mean.rgba[i] = 0.5f * (w->half[0].rgba[i] + w->half[1].rgba[i]);
-    lucent_noisy_error walks_noise;
-    st = lucent_image_compare_noisy(NULL, &w->half[0], &w->half[1], &walks_noise, err);
+    lucent_noisy_error walks_noise = {.noise = NAN};
+    st = lucent_image_average(&w->mean, &w->half[1], err);
+    if (st == LUCENT_OK)
+        st = lucent_image_compare_noisy(NULL, &w->half[0], &w->half[1], &walks_noise, err);
     pc->noise = walks_noise.noise;
     char label[128];
     case_label(index, label, sizeof label);
