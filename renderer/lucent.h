@@ -257,6 +257,7 @@ typedef struct lucent_noisy_error {
     double rel_l2_low;  /* the same with the sum 2 standard errors lower (0 where the noise hides the error) */
     double rel_l2_high; /* and 2 standard errors higher: the error is below this */
     double noise;       /* sqrt(sum ((a - b) / 2)^2 / sum a.b), the noise of the estimates' mean */
+    double test_noise;  /* the same of the test's two estimates (compare_noisy_pair; 0 for one test) */
 } lucent_noisy_error;
 
 /* The standard error comes from the spread of the cross sum over 64 pixel lattices (every 8th pixel
@@ -265,6 +266,12 @@ typedef struct lucent_noisy_error {
  * NAN where sum a.b <= 0. */
 lucent_status lucent_image_compare_noisy(const lucent_image *test, const lucent_image *a, const lucent_image *b,
                                          lucent_noisy_error *out, lucent_error *err);
+/* The same where the test is noisy too, seen through two independent estimates t1 and t2 (one renderer's
+ * random walk against another's): the cross sum pairs (t1 - a).(t2 - b) and (t2 - a).(t1 - b), so both
+ * sides' noise cancels and what is left is the difference of the two truths. t1 == t2 is compare_noisy;
+ * both NULL: only noise. */
+lucent_status lucent_image_compare_noisy_pair(const lucent_image *t1, const lucent_image *t2, const lucent_image *a,
+                                              const lucent_image *b, lucent_noisy_error *out, lucent_error *err);
 /* into = (into + other) / 2 in RGB, alpha and AOVs kept: the mean of two such estimates, for the
  * measures against it. LUCENT_E_INVALID where the two differ in size. */
 lucent_status lucent_image_average(lucent_image *into, const lucent_image *other, lucent_error *err);

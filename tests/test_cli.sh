@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # test_cli.sh - drives lucent-render as a user would: renders builtins and the bunny to PNG and EXR,
-# decodes the results with oiiotool, checks --stats, --compare (once and twice), --backend and --device, and
-# exit codes and messages for bad input.
+# decodes the results with oiiotool, checks --stats, --compare (once and twice, with --twin), --backend and
+# --device, and exit codes and messages for bad input.
 # Every run goes through render(), which shows the run's whole standard error: ctest runs this script under the
 # validation layer and fails it on any "vulkan validation" or "opengl validation" line, and the last check
 # here counts those lines too, so that a report cannot hide in a captured stream.
@@ -144,6 +144,13 @@ check "--compare against the same render at exposure 1 reports rel L2 0.5" \
 check "--compare given twice reports the error without noise: 0.5, noise 0, interval holding 0.5 within 0.03" \
     eval 'render "$five" -o "$dir/x.png" --compare "$dir/bright.exr" --compare "$dir/bright.exr" &&
           without_noise_is 0.5 0 0.03'
+# --twin: the render's own second estimate, here the same five render written before, so the mean is that
+# render and both sides' noise is 0: the same 0.5, and "test_noise" 0.
+check "--twin with --compare twice: the error without both sides' noise 0.5, test_noise 0" \
+    eval 'render "$five" -o "$dir/x.png" --compare "$dir/bright.exr" --compare "$dir/bright.exr" --twin "$dir/five.exr" &&
+          without_noise_is 0.5 0 0.03 && grep -q "\"test_noise\":0}" "$dir/out"'
+check "--twin without --compare twice: exit 2" expect_exit 2 "needs --compare twice" "$five" -o "$dir/x.png" \
+    --compare "$dir/bright.exr" --twin "$dir/five.exr"
 check "--compare a third time: exit 2" expect_exit 2 "unexpected argument" "$five" -o "$dir/x.png" \
     --compare "$dir/bright.exr" --compare "$dir/bright.exr" --compare "$dir/bright.exr"
 check "--compare five against reference: rel L2 in [0.005, 0.11] (measured 0.035)" \

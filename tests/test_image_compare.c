@@ -308,6 +308,53 @@ static void check_noise_hides_error(const lucent_image *truth, lucent_image *a, 
                n.rel_l2, n.rel_l2_low, n.rel_l2_high);
 }
 
+/* Both sides noisy: the test (the truth times 1.1) seen through two estimates t1, t2 with the same noise
+ * as a and b. Over 100 draws compare_noisy_pair's squared error should average 0.01 (within 10%; one
+ * draw's spreads about 0.0018, so the mean's about 2%) and its interval hold 0.1 in at least 88 of them,
+ * where compare_noisy against the test's mean adds that noise (about 0.026); the test's noise is reported
+ * (1.1 times the truth's), and the pair given one test twice is compare_noisy exactly. */
+static void check_noisy_pair(const lucent_image *truth, lucent_image *a, lucent_image *b)
+{
+    enum { DRAWS = 100 };
+    lucent_image test, t1, t2;
+    lucent_error err = {0};
+    copy_image(truth, &test);
+    copy_image(truth, &t1);
+    copy_image(truth, &t2);
+    for (int k = 0; k < W * H * 4; k++)
+        if (k % 4 != 3)
+            test.rgba[k] = 1.1f * truth->rgba[k];
+    unsigned state = 13;
+    double pair2 = 0.0, one2 = 0.0, noise_ratio = 0.0;
+    int held = 0, ok = 1;
+    for (int d = 0; d < DRAWS; d++) {
+        lucent_noisy_error pair, one;
+        noisy_estimates(truth, a, b, 0.3, &state);
+        noisy_estimates(&test, &t1, &t2, 0.3, &state);
+        ok &= lucent_image_compare_noisy_pair(&t1, &t2, a, b, &pair, &err) == LUCENT_OK;
+        ok &= lucent_image_average(&t1, &t2, &err) == LUCENT_OK;
+        ok &= lucent_image_compare_noisy(&t1, a, b, &one, &err) == LUCENT_OK;
+        pair2 += pair.rel_l2 * pair.rel_l2 / DRAWS;
+        one2 += one.rel_l2 * one.rel_l2 / DRAWS;
+        noise_ratio += pair.test_noise / pair.noise / DRAWS;
+        held += pair.rel_l2_low <= 0.1 && 0.1 <= pair.rel_l2_high;
+    }
+    lucent_noisy_error same, alone;
+    lucent_image_compare_noisy_pair(&test, &test, a, b, &same, &err);
+    lucent_image_compare_noisy(&test, a, b, &alone, &err);
+    test_check(ok && fabs(pair2 / 0.01 - 1.0) < 0.1 && held >= DRAWS * 88 / 100 && one2 > 0.02 &&
+                   fabs(noise_ratio - 1.1) < 0.05 && same.rel_l2 == alone.rel_l2 &&
+                   same.rel_l2_high == alone.rel_l2_high && same.test_noise == 0.0,
+               "true error 0.1 (squared 0.01), both sides noisy, over %d draws: compare_noisy_pair's squared error "
+               "%.5f on average, intervals holding 0.1: %d (at least %d); compare_noisy against the test's mean "
+               "%.5f (adds its noise); the test's noise %.3f times the truth's (expected 1.1); one test given twice "
+               "%.6f = compare_noisy %.6f, test noise %g",
+               DRAWS, pair2, held, DRAWS * 88 / 100, one2, noise_ratio, same.rel_l2, alone.rel_l2, same.test_noise);
+    lucent_image_free(&test);
+    lucent_image_free(&t1);
+    lucent_image_free(&t2);
+}
+
 /* lucent_image_average on the smooth image and 1.1 times it: RGB 1.05 times the truth, alpha kept;
  * another size refused. */
 static void check_average(const lucent_image *truth, const lucent_image *brighter, const lucent_image *small)
@@ -351,6 +398,7 @@ static void check_noisy_truth(void)
     test_check(st == LUCENT_OK && isnan(n.rel_l2) && isnan(n.rel_l2_high) && n.noise > 0.0,
                "no test: rel %g (NAN), noise %.4f", n.rel_l2, n.noise);
     check_noise_hides_error(&truth, &a, &b);
+    check_noisy_pair(&truth, &a, &b);
     for (int k = 0; k < W * H * 4; k++)
         if (k % 4 != 3)
             a.rgba[k] = b.rgba[k] = 0.0f;

@@ -11,8 +11,8 @@
 #define MAX_SCENE_BYTES (16u << 20)
 
 static const char usage[] =
-    "usage: lucent-render SCENE.json -o OUT.png|OUT.exr [--stats] [--compare REF.exr [--compare REF2.exr]]\n"
-    "                     [--backend B] [--device NAME] [--verbose]\n"
+    "usage: lucent-render SCENE.json -o OUT.png|OUT.exr [--stats] [--compare REF.exr [--compare REF2.exr]\n"
+    "                     [--twin T.exr]] [--backend B] [--device NAME] [--verbose]\n"
     "  SCENE.json   scene document (see README); '-' reads standard input\n"
     "  -o FILE      output image; the extension (.png or .exr) picks the format\n"
     "  --stats      print pass times and what was modelled, as JSON on standard output\n"
@@ -21,13 +21,16 @@ static const char usage[] =
     "               (two independent noisy truths, e.g. method \"path\" under two seeds), against their mean,\n"
     "               and as \"without_noise\" the error with their noise cancelled, its interval of 2\n"
     "               standard errors, and the noise of their mean\n"
+    "  --twin T     with --compare twice: this render is itself noisy and T.exr an independent estimate of\n"
+    "               the same image (e.g. the scene under another seed); \"compare\" is their mean's, and\n"
+    "               \"without_noise\" cancels both sides' noise (\"test_noise\": that of their mean)\n"
     "  --backend B  vulkan, gl (OpenGL 4.5 through EGL) or auto (Vulkan, else OpenGL; the default, or\n"
     "               $LUCENT_BACKEND)\n"
     "  --device S   use the first device whose name contains S (else $LUCENT_DEVICE)\n"
     "  --verbose    log the chosen device and resource creation to standard error\n";
 
 struct options {
-    const char *scene_path, *out_path, *backend, *device, *compare_path[2];
+    const char *scene_path, *out_path, *backend, *device, *compare_path[2], *twin_path;
     int stats, verbose;
 };
 
@@ -39,6 +42,8 @@ static int parse_args(int argc, char **argv, struct options *o)
             o->out_path = argv[++i];
         else if (strcmp(argv[i], "--compare") == 0 && i + 1 < argc && !o->compare_path[1])
             o->compare_path[o->compare_path[0] != NULL] = argv[++i];
+        else if (strcmp(argv[i], "--twin") == 0 && i + 1 < argc && !o->twin_path)
+            o->twin_path = argv[++i];
         else if (strcmp(argv[i], "--backend") == 0 && i + 1 < argc)
             o->backend = argv[++i];
         else if (strcmp(argv[i], "--device") == 0 && i + 1 < argc)
@@ -56,6 +61,10 @@ static int parse_args(int argc, char **argv, struct options *o)
     }
     if (o->backend && !lucent_backend_valid(o->backend)) {
         fprintf(stderr, "lucent-render: --backend must be vulkan, gl or auto (got \"%s\")\n", o->backend);
+        return -1;
+    }
+    if (o->twin_path && !o->compare_path[1]) {
+        fputs("lucent-render: --twin needs --compare twice (two estimates of the truth)\n", stderr);
         return -1;
     }
     if (!o->scene_path || !o->out_path) {
@@ -97,32 +106,39 @@ static int format_from_path(const char *path, lucent_format *out)
 }
 
 /* Prints {"compare": {...}} for the rendered image against a reference EXR or, given two, against their
- * mean, with "without_noise": the error against the truth both estimate (lucent_image_compare_noisy). */
-static int print_comparison(const lucent_image *img, const char *const ref_path[2])
+ * mean, with "without_noise": the error against the truth both estimate (lucent_image_compare_noisy); given
+ * a twin of the render as well, for the mean of the two and with both sides' noise cancelled. */
+static int print_comparison(const lucent_image *img, const char *const ref_path[2], const char *twin_path)
 {
-    lucent_image ref[2] = {{0}};
+    lucent_image ref[2] = {{0}}, twin = {0};
     lucent_image_error e;
     lucent_noisy_error n = {0};
     lucent_error err = {0};
     char buf[1024];
     int ok = lucent_image_load(ref_path[0], &ref[0], &err) == LUCENT_OK &&
              (!ref_path[1] || lucent_image_load(ref_path[1], &ref[1], &err) == LUCENT_OK) &&
-             (!ref_path[1] || (lucent_image_compare_noisy(img, &ref[0], &ref[1], &n, &err) == LUCENT_OK &&
-                               lucent_image_average(&ref[0], &ref[1], &err) == LUCENT_OK)) &&
-             lucent_image_compare(img, &ref[0], &e, &err) == LUCENT_OK &&
+             (!twin_path || lucent_image_load(twin_path, &twin, &err) == LUCENT_OK) &&
+             (!ref_path[1] ||
+              (lucent_image_compare_noisy_pair(img, twin_path ? &twin : img, &ref[0], &ref[1], &n, &err) == LUCENT_OK &&
+               lucent_image_average(&ref[0], &ref[1], &err) == LUCENT_OK)) &&
+             (!twin_path || lucent_image_average(&twin, img, &err) == LUCENT_OK) &&
+             lucent_image_compare(twin_path ? &twin : img, &ref[0], &e, &err) == LUCENT_OK &&
              lucent_image_error_json(&e, buf, sizeof buf) > 0;
+    char test_noise[48] = "";
+    if (twin_path)
+        snprintf(test_noise, sizeof test_noise, ",\"test_noise\":%.6g", n.test_noise);
     if (ok && ref_path[1] && isfinite(n.noise))
-        printf("{\"compare\":%s,\"without_noise\":{\"rel_l2\":%.6g,\"low\":%.6g,\"high\":%.6g,\"noise\":%.6g}}\n",
-               buf, n.rel_l2, n.rel_l2_low, n.rel_l2_high, n.noise);
+        printf("{\"compare\":%s,\"without_noise\":{\"rel_l2\":%.6g,\"low\":%.6g,\"high\":%.6g,\"noise\":%.6g%s}}\n",
+               buf, n.rel_l2, n.rel_l2_low, n.rel_l2_high, n.noise, test_noise);
     else if (ok && ref_path[1])  /* black truths: no relative error, and %g would print nan, not JSON */
         printf("{\"compare\":%s,\"without_noise\":null}\n", buf);
     else if (ok)
         printf("{\"compare\":%s}\n", buf);
     else
-        fprintf(stderr, "lucent-render: cannot compare with %s%s%s: %s\n", ref_path[0], ref_path[1] ? " and " : "",
-                ref_path[1] ? ref_path[1] : "", err.message);
+        fprintf(stderr, "lucent-render: cannot compare: %s\n", err.message);
     lucent_image_free(&ref[0]);
     lucent_image_free(&ref[1]);
+    lucent_image_free(&twin);
     return ok ? 0 : -1;
 }
 
@@ -183,7 +199,7 @@ int main(int argc, char **argv)
         if (lucent_stats_json(&stats, buf, sizeof buf) > 0)
             puts(buf);
     }
-    rc = o.compare_path[0] && print_comparison(&img, o.compare_path) != 0 ? 1 : 0;
+    rc = o.compare_path[0] && print_comparison(&img, o.compare_path, o.twin_path) != 0 ? 1 : 0;
 done:
     lucent_image_free(&img);
     lucent_renderer_destroy(r);
