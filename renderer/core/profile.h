@@ -28,6 +28,12 @@ double profile_rd(const struct profile *p, double r);        /* R(r), mm^-2; fin
  * slab transmittance with its first two pairs. Equal to profile_rd(|d|) where both lie on one plane;
  * normalized diffusion, which has no sources, is always profile_rd(|d|). Never negative. */
 double profile_rd_between(const struct profile *p, const double d[3], const double n_out[3], const double n_in[3]);
+/* A thin part (an ear, a slab's face) loses through its back face light that a half space would send back
+ * out: the share of R(r) that is left on the lit face of a slab `thickness` mm thick, by Donner and Jensen
+ * 2005's multipole reflectance (0..1; the pairs run to 4 or twice r in periods 2 (thickness + 2 z_b), at most
+ * PROFILE_SLAB_PAIRS). 1 for a profile without sources (normalized diffusion) or an infinite thickness. */
+#define PROFILE_SLAB_PAIRS 64
+double profile_slab_share(const struct profile *p, double r, double thickness);
 double profile_tail(const struct profile *p, double t);      /* T(t): integral of R outside radius t */
 double profile_total(const struct profile *p);               /* T(0): the total diffuse reflectance */
 double profile_disc(const struct profile *p, double radius); /* integral of R over the disc, T(0) - T(radius) */

@@ -10,6 +10,7 @@
 #include "dipole.h"
 #include "profile.h"
 #include "sphere_diffusion.h"
+#include "thin_part.h"
 #include "linalg.h"
 
 #include <float.h>
@@ -34,7 +35,8 @@
 #define NEAR_SPACINGS 1.5
 #define LEAF_POINTS 8
 #define MAX_TREE_DEPTH 60
-/* Shadow rays start this far (times the mesh radius) off the surface so they miss their own triangle. */
+/* Shadow rays (and the ray measuring the thickness under an exit) start this far (times the mesh radius) off
+ * the surface so they miss their own triangle. */
 #define SHADOW_OFFSET 1e-6
 
 struct point_node {
@@ -54,6 +56,7 @@ struct context {
     struct bvh *bvh;
     struct profile profile[3];
     struct sphere_tables sphere;   /* diffusion in a sphere over R between points */
+    struct thin_part_table thin[3];   /* the share of R a thin part keeps, per channel */
     float *vertex_curvature;       /* mesh_vertex_curvature: the exit's, for the sphere's weight */
     double scale_mm, threshold, eta;
     double exit_weight;      /* sr^-1: diffuse_exit_weight(eta) */
@@ -332,22 +335,42 @@ struct near_disc {
     uint32_t count;
 };
 
-/* The light from an irradiance point (or a far group's centroid) d away, with normal n_in, to the exit. */
-static double kernel(const struct context *ctx, int c, const double d[3], const double n[3], const double n_in[3],
-                     double curvature_mm)
+/* The point a pixel sees, as the kernel needs it: where light leaves, its normal, the surface's curvature
+ * there, the medium's thickness under it (mm; INFINITY where the ray inward leaves the mesh) and how much
+ * that is a thin part's (slab_weight, thin_part_weight) rather than a convex body's. */
+struct exit_point {
+    const double *p, *n;
+    double curvature_mm, thickness_mm, slab_weight;
+};
+
+/* How much of R a pair keeps on exit e's part: all but what the thin part loses through its back face, for
+ * pairs on one face, weighted by the cosine between their normals (none from 90 degrees on: through the part
+ * profile_rd_between has the slab's pair, and from its sides the loss made a back-lit ear darker still). */
+static double thin_part_factor(const struct context *ctx, int c, double r_mm, double on_one_face,
+                               const struct exit_point *e)
 {
-    return profile_rd_between(&ctx->profile[c], d, n, n_in) * sphere_factor(&ctx->sphere.channel[c], d, n, n_in, curvature_mm);
+    double w = e->slab_weight * on_one_face;
+    return w > 0.0 ? 1.0 - w * (1.0 - thin_part_share(&ctx->thin[c], r_mm, e->thickness_mm)) : 1.0;
 }
 
-static void sum_points(const struct context *ctx, const double x[3], const double n[3], double curvature_mm,
-                       size_t first, size_t end, double sum[3], struct near_disc *near)
+/* The light from an irradiance point (or a far group's centroid) d away, with normal n_in, to the exit. */
+static double kernel(const struct context *ctx, int c, const double d[3], const double n_in[3],
+                     const struct exit_point *e)
+{
+    return profile_rd_between(&ctx->profile[c], d, e->n, n_in) *
+           sphere_factor(&ctx->sphere.channel[c], d, e->n, n_in, e->curvature_mm) *
+           thin_part_factor(ctx, c, v3_length(d), fmax(v3_dot(n_in, e->n), 0.0), e);
+}
+
+static void sum_points(const struct context *ctx, const struct exit_point *e, size_t first, size_t end,
+                       double sum[3], struct near_disc *near)
 {
     for (size_t i = first; i < end; i++) {
         const double *f = &ctx->flux[i * 3];
         if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0)
             continue;
         double d[3];
-        offset_mm(ctx, x, &ctx->pos[i * 3], d);
+        offset_mm(ctx, e->p, &ctx->pos[i * 3], d);
         if (v3_length(d) < ctx->near_radius * ctx->scale_mm) {
             for (int c = 0; c < 3; c++)
                 near->flux[c] += f[c];
@@ -355,19 +378,22 @@ static void sum_points(const struct context *ctx, const double x[3], const doubl
             continue;
         }
         for (int c = 0; c < 3; c++)
-            sum[c] += f[c] * kernel(ctx, c, d, n, &ctx->normal[i * 3], curvature_mm);
+            sum[c] += f[c] * kernel(ctx, c, d, &ctx->normal[i * 3], e);
     }
 }
 
 /* The near points' mean irradiance times the integral of R_d over a disc of their total area,
  * the surface being flat at that scale. */
-static void add_near_disc(const struct context *ctx, const struct near_disc *near, double sum[3])
+static void add_near_disc(const struct context *ctx, const struct near_disc *near, const struct exit_point *e,
+                          double sum[3])
 {
     if (near->count == 0)
         return;
     double area = near->count * ctx->point_area_mm2, radius = sqrt(area / PI);
+    /* (a thin part's share taken at the disc's mean distance from its centre) */
     for (int c = 0; c < 3; c++)
-        sum[c] += near->flux[c] / area * profile_disc(&ctx->profile[c], radius);
+        sum[c] += near->flux[c] / area * profile_disc(&ctx->profile[c], radius) *
+                  thin_part_factor(ctx, c, radius * 2.0 / 3.0, 1.0, e);
 }
 
 static double box_distance(const struct point_node *n, const double x[3])
@@ -382,8 +408,7 @@ static double box_distance(const struct point_node *n, const double x[3])
 
 /* Jensen & Buhler 2002: far nodes count as their flux at their centroid. A node holding x is at
  * distance 0 and is always opened. */
-static void sum_tree(const struct context *ctx, const double x[3], const double n[3], double curvature_mm,
-                     double sum[3], struct near_disc *near)
+static void sum_tree(const struct context *ctx, const struct exit_point *e, double sum[3], struct near_disc *near)
 {
     uint32_t stack[MAX_TREE_DEPTH + 2];
     int top = 0;
@@ -393,21 +418,38 @@ static void sum_tree(const struct context *ctx, const double x[3], const double 
         const struct point_node *node = &ctx->nodes[index];
         if (node->flux[0] == 0.0 && node->flux[1] == 0.0 && node->flux[2] == 0.0)
             continue;
-        double distance = box_distance(node, x);
+        double distance = box_distance(node, e->p);
         if (distance >= ctx->near_radius && node->extent < ctx->threshold * distance) {
             for (int c = 0; c < 3; c++)
                 if (node->flux[c] > 0.0) {
                     double d[3];
-                    offset_mm(ctx, x, node->centroid[c], d);
-                    sum[c] += node->flux[c] * kernel(ctx, c, d, n, node->normal, curvature_mm);
+                    offset_mm(ctx, e->p, node->centroid[c], d);
+                    sum[c] += node->flux[c] * kernel(ctx, c, d, node->normal, e);
                 }
         } else if (node->count > 0) {
-            sum_points(ctx, x, n, curvature_mm, node->first, (size_t)node->first + node->count, sum, near);
+            sum_points(ctx, e, node->first, (size_t)node->first + node->count, sum, near);
         } else {
             stack[top++] = node->first;
             stack[top++] = index + 1;
         }
     }
+}
+
+/* The medium under a visible point along its normal, in mm: how far the ray inward runs to the mesh. */
+static double thickness_mm(const struct context *ctx, const struct visible_point *v)
+{
+    double start[3], inward[3] = {-v->n[0], -v->n[1], -v->n[2]};
+    struct bvh_hit hit;
+    v3_scale_add(v->p, v->g, -SHADOW_OFFSET * ctx->mesh->radius, start);
+    return bvh_closest(ctx->bvh, start, inward, INFINITY, &hit) ? hit.t * ctx->scale_mm : INFINITY;
+}
+
+/* A thin part is one much thinner than its faces' curvature makes a convex body: 1 - thickness x
+ * curvature / 2 is 0 on a sphere (its diameter times 1 / radius over 2), whose light lost through its sides
+ * the sphere factor has, and 1 on a flat face or a concave one. */
+static double thin_part_weight(double thickness_mm, double curvature_mm)
+{
+    return isfinite(thickness_mm) ? fmin(fmax(1.0 - 0.5 * thickness_mm * curvature_mm, 0.0), 1.0) : 0.0;
 }
 
 static void shade_pixel(struct context *ctx, int x, int y)
@@ -418,12 +460,13 @@ static void shade_pixel(struct context *ctx, int x, int y)
     if (!visible_point_at(ctx->camera, ctx->bvh, ctx->mesh, ctx->vertex_curvature, x, y, img->width, img->height, &v))
         return;
     struct near_disc near = {{0.0, 0.0, 0.0}, 0};
-    double curvature_mm = v.curvature / ctx->scale_mm;
+    struct exit_point e = {v.p, v.n, v.curvature / ctx->scale_mm, thickness_mm(ctx, &v), 0.0};
+    e.slab_weight = thin_part_weight(e.thickness_mm, e.curvature_mm);
     if (ctx->brute_force)
-        sum_points(ctx, v.p, v.n, curvature_mm, 0, ctx->point_count, sum, &near);
+        sum_points(ctx, &e, 0, ctx->point_count, sum, &near);
     else
-        sum_tree(ctx, v.p, v.n, curvature_mm, sum, &near);
-    add_near_disc(ctx, &near, sum);
+        sum_tree(ctx, &e, sum, &near);
+    add_near_disc(ctx, &near, &e, sum);
     double k = fresnel_transmittance(ctx->eta, -v3_dot(v.n, v.dir)) * ctx->exit_weight, single[3] = {0.0, 0.0, 0.0};
     if (ctx->single) {
         double to_eye[3] = {-v.dir[0], -v.dir[1], -v.dir[2]};
@@ -530,6 +573,8 @@ lucent_status reference_render(const lucent_scene *scene, const struct lucent_me
     ctx.shadows = !mesh->convex;
     int threads = parallel_threads(options->threads);
     double t0 = now_ms();
+    for (int c = 0; c < 3; c++)
+        thin_part_table_init(&ctx.thin[c], &ctx.profile[c]);
     if ((st = sphere_tables_for(&ctx.sphere, ctx.profile, err)) || (st = set_up_lights(&ctx, err)) ||
         (st = cumulative_area(&ctx, err)) ||
         (st = choose_point_count(&ctx, options->points, err)) || (st = bvh_build(mesh, &ctx.bvh, err)) ||
