@@ -38,6 +38,9 @@ struct scored_case {
 /* One directional light travelling along V (a JSON array). */
 #define DIR(v) "{\"direction\":" v ",\"intensity\":3}"
 
+/* Every bunny case measured again 2026-12-06 with the reference's thin parts (thin_part.c), which the fast
+ * methods do not have: lit from behind, the reference's marble ear is brighter (five's mean 0.96 -> 0.93 of
+ * it); under side light its ear is darker and five nearer (0.081 -> 0.078 at 96^2). */
 static const struct scored_case cases[] = {
     {BUILTIN, "sphere", DIR("[0,0,-1]"), "skin1", 64,
      {{0.03539, 0.0669, 0.1266, 0.05, 0.03104, 1.0002},
@@ -58,9 +61,9 @@ static const struct scored_case cases[] = {
       {0.1841, 0.1589, 1.482, 0.71, 0.1744, 0.9785},
       {0.06929, 0.06252, 0.8385, 0.46, 0.06251, 0.9815}}, 0},
     {BUNNY, "bunny", DIR("[-1,0,0]"), "marble", 96,
-     {{0.1312, 0.2205, 2.012, 0.70, 0.05938, 0.9341},
-      {0.08081, 0.06247, 1.728, 0.61, 0.05884, 0.9663},
-      {0.07456, 0.05853, 1.455, 0.65, 0.04862, 0.9616}}, 1},
+     {{0.1304, 0.2114, 2.245, 0.68, 0.05849, 0.9504},
+      {0.07764, 0.05383, 1.909, 0.59, 0.05405, 0.9769},
+      {0.07241, 0.05118, 1.753, 0.63, 0.04573, 0.9723}}, 1},
     /* the +X face lit, the top and front faces lit only by light diffusing around their edges */
     {CUBE, "cube", DIR("[-1,0,0]"), "marble", 96,
      {{0.1063, 0.06574, 3.665, 0.73, 0.1005, 1.0007},
@@ -72,9 +75,9 @@ static const struct scored_case cases[] = {
       {0.05904, 0.05711, 0.949, 0.54, 0.03817, 0.9991}}, 0},
     /* larger images integrate the far part once per block of 2x2 (256^2) and 4x4 (512^2) pixels */
     {BUNNY, "bunny", DIR("[-1,0,0]"), "marble", 256,
-     {{0.1068, 0.1868, 0.9251, 0.63, 0.02132, 0.9278},
-      {0.06478, 0.07508, 1.022, 0.50, 0.01659, 0.9604},
-      {0.06434, 0.07191, 1.016, 0.52, 0.01643, 0.9568}}, 1},
+     {{0.103, 0.1774, 0.9425, 0.58, 0.02109, 0.9434},
+      {0.0618, 0.06809, 1.196, 0.48, 0.01633, 0.9693},
+      {0.06138, 0.06501, 1.218, 0.49, 0.01621, 0.9662}}, 1},
     {CUBE, "cube", DIR("[-1,0,0]"), "marble", 256,
      {{0.07807, 0.05269, 1.208, 0.65, 0.02556, 1.0208},
       {0.05962, 0.05211, 0.7778, 0.41, 0.02043, 1.0111},
@@ -88,18 +91,18 @@ static const struct scored_case cases[] = {
     /* measured again with sphere_factor, both taking the exit's curvature from mesh_vertex_curvature (with the
      * fast one from G-buffer neighbours and the reference's per triangle: five 0.1305, per channel 0.1348) */
     {BUNNY, "bunny", DIR("[0,0,1]"), "marble", 128,
-     {{0.9852, 0.9693, 1, 1.00, 0.04642, 0.0068},
-      {0.1229, 0.1624, 0.3482, 0.52, 0.08294, 0.9608},
-      {0.1278, 0.1813, 0.3333, 0.67, 0.08842, 0.9454}}, 0},
+     {{0.9853, 0.9694, 1, 1.00, 0.03058, 0.0067},
+      {0.1481, 0.1719, 0.3597, 0.53, 0.07919, 0.9318},
+      {0.1511, 0.1879, 0.3436, 0.71, 0.08415, 0.9168}}, 0},
     {BUNNY, "bunny", DIR("[0,0,1]"), "skin1", 128,
-     {{0.9937, 0.9878, 1, 1.00, 0.04463, 0.0060},
-      {0.1395, 0.2383, 0.4765, 0.56, 0.09156, 0.9511},
-      {0.1059, 0.1675, 0.3023, 0.42, 0.06227, 0.9423}}, 0},
+     {{0.9936, 0.9876, 1, 1.00, 0.0449, 0.0061},
+      {0.1415, 0.2376, 0.4557, 0.56, 0.09098, 0.9434},
+      {0.109, 0.1675, 0.2994, 0.42, 0.06188, 0.9354}}, 0},
     /* a rim light, 130 degrees from the view direction: lit partly where the camera sees */
     {BUNNY, "bunny", DIR("[-0.766,0,0.643]"), "marble", 128,
-     {{0.4577, 0.3764, 1, 0.99, 0.1261, 0.5026},
-      {0.2071, 0.1822, 0.8184, 0.70, 0.1457, 0.9623},
-      {0.2099, 0.1823, 0.8049, 0.89, 0.1636, 0.9466}}, 0},
+     {{0.425, 0.3618, 1, 0.98, 0.133, 0.5589},
+      {0.2015, 0.1715, 0.8226, 0.71, 0.1389, 0.9607},
+      {0.2027, 0.1719, 0.804, 0.90, 0.1556, 0.9469}}, 0},
     /* point lights (positions in the mesh's coordinates; the bunny's centre is near [0,4.8,0], its radius
      * about 6): behind the sphere 3 radii from its centre, behind the bunny, and two lights on the bunny,
      * one from behind and one a point in front */
@@ -112,13 +115,13 @@ static const struct scored_case cases[] = {
       {0.05981, 0.1073, 0.3425, 0.18, 0.04324, 0.9928},
       {0.04436, 0.07498, 0.2024, 0.09, 0.02836, 0.9909}}, 0},
     {BUNNY, "bunny", "{\"type\":\"point\",\"position\":[-4,6,-12],\"intensity\":600}", "marble", 128,
-     {{0.9948, 0.9886, 1, 1.00, 0.03067, 0.0060},
-      {0.1692, 0.2296, 0.4784, 0.55, 0.0948, 0.9745},
-      {0.1721, 0.2279, 0.5034, 0.68, 0.1017, 0.9612}}, 0},
+     {{0.9944, 0.9878, 1, 1.00, 0.0322, 0.0070},
+      {0.1942, 0.2396, 0.4669, 0.55, 0.08402, 0.9309},
+      {0.1981, 0.2407, 0.5173, 0.70, 0.09225, 0.9195}}, 0},
     {BUNNY, "bunny", DIR("[-1,0,0]"), "marble", 512,
-     {{0.107, 0.1821, 0.9238, 0.63, 0.0177, 0.9269},
-      {0.06614, 0.07481, 0.9645, 0.51, 0.01327, 0.9595},
-      {0.06545, 0.073, 0.9962, 0.53, 0.01325, 0.9561}}, 1},
+     {{0.1028, 0.1723, 0.9445, 0.58, 0.01751, 0.9423},
+      {0.06263, 0.06742, 1.141, 0.48, 0.01311, 0.9685},
+      {0.06208, 0.06576, 1.189, 0.49, 0.0131, 0.9654}}, 1},
 };
 
 static int within(const char *name, double got, double bound, char *buf, size_t cap)

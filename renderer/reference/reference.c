@@ -336,11 +336,13 @@ struct near_disc {
 };
 
 /* The point a pixel sees, as the kernel needs it: where light leaves, its normal, the surface's curvature
- * there, the medium's thickness under it (mm; INFINITY where the ray inward leaves the mesh) and how much
- * that is a thin part's (slab_weight, thin_part_weight) rather than a convex body's. */
+ * there, the medium's thickness under it (mm; INFINITY where the ray inward leaves the mesh), how much that
+ * is a thin part's (slab_weight, thin_part_weight) and the curvature the sphere factor takes: the surface's
+ * where the part is at least as thick as its radius of curvature, less in proportion where it is thinner
+ * (an ear is a slab, not a ball of its thickness: the sphere factor made a back-lit marble ear too dark). */
 struct exit_point {
     const double *p, *n;
-    double curvature_mm, thickness_mm, slab_weight;
+    double curvature_mm, thickness_mm, slab_weight, ball_curvature_mm;
 };
 
 /* How much of R a pair keeps on exit e's part: all but what the thin part loses through its back face, for
@@ -358,7 +360,7 @@ static double kernel(const struct context *ctx, int c, const double d[3], const 
                      const struct exit_point *e)
 {
     return profile_rd_between(&ctx->profile[c], d, e->n, n_in) *
-           sphere_factor(&ctx->sphere.channel[c], d, e->n, n_in, e->curvature_mm) *
+           sphere_factor(&ctx->sphere.channel[c], d, e->n, n_in, e->ball_curvature_mm) *
            thin_part_factor(ctx, c, v3_length(d), fmax(v3_dot(n_in, e->n), 0.0), e);
 }
 
@@ -460,8 +462,9 @@ static void shade_pixel(struct context *ctx, int x, int y)
     if (!visible_point_at(ctx->camera, ctx->bvh, ctx->mesh, ctx->vertex_curvature, x, y, img->width, img->height, &v))
         return;
     struct near_disc near = {{0.0, 0.0, 0.0}, 0};
-    struct exit_point e = {v.p, v.n, v.curvature / ctx->scale_mm, thickness_mm(ctx, &v), 0.0};
+    struct exit_point e = {v.p, v.n, v.curvature / ctx->scale_mm, thickness_mm(ctx, &v), 0.0, 0.0};
     e.slab_weight = thin_part_weight(e.thickness_mm, e.curvature_mm);
+    e.ball_curvature_mm = e.curvature_mm * fmin(fmax(e.thickness_mm * e.curvature_mm, 0.0), 1.0);
     if (ctx->brute_force)
         sum_points(ctx, &e, 0, ctx->point_count, sum, &near);
     else
