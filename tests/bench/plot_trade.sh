@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
 # plot_trade.sh - plots bench_trade's summary: median frame time (log x) against median relative L2 error,
 # one curve per mode family, the Pareto front dashed; one PNG per image size (gnuplot, package gnuplot-nox).
-# usage: plot_trade.sh SUMMARY.tsv OUT_PREFIX [path]   (writes OUT_PREFIX_SIZE.png for each size in the summary;
-# "path": SUMMARY is bench_trade --path's OUT_PREFIX_path_summary.tsv, the error against method "path" with the
-# walks' noise taken out)
+# usage: plot_trade.sh SUMMARY.tsv OUT_PREFIX [path|path-top]   (writes OUT_PREFIX_SIZE.png for each size in the
+# summary; "path": SUMMARY is bench_trade --path's OUT_PREFIX_path_summary.tsv, the error against method "path" with
+# the walks' noise cancelled; "path-top": path_summary_top.py's, with the cases the walks cannot resolve at the top
+# of their interval)
 set -euo pipefail
 tsv=$1 prefix=$2 against=${3:-reference}
 if [[ $against == path ]]; then
     truth="method 'path' (error without the walks' noise)"
+elif [[ $against == path-top ]]; then
+    truth="'path', w/o its noise, unresolved cases at their interval's top"
 else
     truth="method 'reference'"
 fi
