@@ -15,7 +15,7 @@ struct thin_part_table {
     float share[THIN_PART_T][THIN_PART_R];
 };
 
-/* Fills t for one channel's profile (tens of milliseconds). */
+/* Fills t for one channel's profile (about 2 ms). */
 void thin_part_table_init(struct thin_part_table *t, const struct profile *p);
 /* profile_slab_share(p, r_mm, thickness_mm), bilinear in log r and log thickness: r below the table as its
  * first column, beyond it as its last; thinner than the table as its thinnest; 1 beyond it (or INFINITY). */

@@ -337,7 +337,7 @@ struct near_disc {
 
 /* The point a pixel sees, as the kernel needs it: where light leaves, its normal, the surface's curvature
  * there, the medium's thickness under it (mm; INFINITY where the ray inward leaves the mesh), how much that
- * is a thin part's (slab_weight, thin_part_weight) and the curvature the sphere factor takes: the surface's
+ * is a thin part's (slab_weight, exit_point_at) and the curvature the sphere factor takes: the surface's
  * where the part is at least as thick as its radius of curvature, less in proportion where it is thinner
  * (an ear is a slab, not a ball of its thickness: the sphere factor made a back-lit marble ear too dark). */
 struct exit_point {
@@ -446,12 +446,15 @@ static double thickness_mm(const struct context *ctx, const struct visible_point
     return bvh_closest(ctx->bvh, start, inward, INFINITY, &hit) ? hit.t * ctx->scale_mm : INFINITY;
 }
 
-/* A thin part is one much thinner than its faces' curvature makes a convex body: 1 - thickness x
- * curvature / 2 is 0 on a sphere (its diameter times 1 / radius over 2), whose light lost through its sides
- * the sphere factor has, and 1 on a flat face or a concave one. */
-static double thin_part_weight(double thickness_mm, double curvature_mm)
+/* Visible point v as the kernel takes it. A thin part is one much thinner than its faces' curvature makes a
+ * convex body: 1 - thickness x curvature / 2 is 0 on a sphere (its diameter times 1 / radius over 2), whose
+ * light lost through its sides the sphere factor has, and 1 on a flat face or a concave one. */
+static struct exit_point exit_point_at(const struct context *ctx, const struct visible_point *v)
 {
-    return isfinite(thickness_mm) ? fmin(fmax(1.0 - 0.5 * thickness_mm * curvature_mm, 0.0), 1.0) : 0.0;
+    double curvature = v->curvature / ctx->scale_mm, thickness = thickness_mm(ctx, v);
+    double ball = fmin(fmax(thickness * curvature, 0.0), 1.0);
+    double slab = isfinite(thickness) ? fmin(fmax(1.0 - 0.5 * thickness * curvature, 0.0), 1.0) : 0.0;
+    return (struct exit_point){v->p, v->n, curvature, thickness, slab, curvature * ball};
 }
 
 static void shade_pixel(struct context *ctx, int x, int y)
@@ -462,9 +465,7 @@ static void shade_pixel(struct context *ctx, int x, int y)
     if (!visible_point_at(ctx->camera, ctx->bvh, ctx->mesh, ctx->vertex_curvature, x, y, img->width, img->height, &v))
         return;
     struct near_disc near = {{0.0, 0.0, 0.0}, 0};
-    struct exit_point e = {v.p, v.n, v.curvature / ctx->scale_mm, thickness_mm(ctx, &v), 0.0, 0.0};
-    e.slab_weight = thin_part_weight(e.thickness_mm, e.curvature_mm);
-    e.ball_curvature_mm = e.curvature_mm * fmin(fmax(e.thickness_mm * e.curvature_mm, 0.0), 1.0);
+    struct exit_point e = exit_point_at(ctx, &v);
     if (ctx->brute_force)
         sum_points(ctx, &e, 0, ctx->point_count, sum, &near);
     else
