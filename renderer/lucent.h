@@ -82,6 +82,10 @@ typedef enum lucent_method {
 /* Method "path"'s surface (renderer/reference/path.c): fresnel, a smooth dielectric of index eta with
  * internal reflection; cycles, Blender Cycles' random walk (diffuse entry and exit, no Fresnel). */
 typedef enum lucent_path_boundary { LUCENT_PATH_FRESNEL = 0, LUCENT_PATH_CYCLES } lucent_path_boundary;
+/* Method "path"'s pixel filter: point, every walk from the pixel centre's ray (as the other methods see
+ * it); box, each pass through a uniform random point of the pixel (an anti-aliased image whose coverage is
+ * the pixel's share hit, as a renderer with a one-pixel box filter, Cycles' included, makes it). */
+typedef enum lucent_path_filter { LUCENT_PATH_FILTER_POINT = 0, LUCENT_PATH_FILTER_BOX } lucent_path_filter;
 /* Where a pixel's point hidden in its best-facing view is integrated: next_best tries the other
  * facing views in order of n.v, then the front; front is the paper's choice. */
 typedef enum lucent_fallback { LUCENT_FALLBACK_NEXT_BEST = 0, LUCENT_FALLBACK_FRONT } lucent_fallback;
@@ -173,6 +177,7 @@ typedef struct lucent_scene {
     uint32_t path_samples;         /* walks per pixel and channel */
     double path_time_s;            /* 0: none; else no further pass starts after this long */
     lucent_path_boundary path_boundary;
+    lucent_path_filter path_filter;
     uint32_t path_seed;
 } lucent_scene;
 

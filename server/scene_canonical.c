@@ -11,7 +11,7 @@
 
 /* A field added to lucent_scene must be added to scene_canonical() too, or two scenes that differ in
  * it would share an ETag and a cached image. This size check makes that impossible to miss. */
-_Static_assert(sizeof(lucent_scene) == 1840,
+_Static_assert(sizeof(lucent_scene) == 1848,
                "lucent_scene changed: serialize the new field in server/scene_canonical.c, then update this size");
 
 struct out {
@@ -88,7 +88,8 @@ int scene_canonical(const lucent_scene *s, char *buf, size_t cap)
     num(&o, "exposure", s->exposure);
     put(&o, "format=%d;reference.points=%u;", (int)s->format, s->reference_points);
     num(&o, "reference.threshold", s->reference_threshold);
-    put(&o, "path.samples=%u;path.boundary=%d;path.seed=%u;", s->path_samples, (int)s->path_boundary, s->path_seed);
+    put(&o, "path.samples=%u;path.boundary=%d;path.filter=%d;path.seed=%u;", s->path_samples, (int)s->path_boundary,
+        (int)s->path_filter, s->path_seed);
     num(&o, "path.time_s", s->path_time_s);
     return o.overflow ? -1 : (int)o.used;
 }

@@ -18,7 +18,8 @@
  *   w, h            -> width, height            background (r,g,b,a), exposure, method, samples, sampling,
  *   projection_size, side_projection_size, fallback, single_scattering (true/false), format -> the same
  *   reference_points, reference_threshold -> reference.points, reference.threshold
- *   path_samples, path_time_s, path_boundary, path_seed -> path.samples, path.time_s, path.boundary, path.seed
+ *   path_samples, path_time_s, path_boundary, path_filter, path_seed -> path.samples, path.time_s, path.boundary,
+ *   path.filter, path.seed
  * Vectors are comma-separated numbers. */
 enum kind { K_STRING, K_NUMBER, K_VECTOR, K_BOOL, K_MESH };
 
@@ -66,6 +67,7 @@ static const struct mapping table[] = {
     {"path_samples", "path", "samples", K_NUMBER},
     {"path_time_s", "path", "time_s", K_NUMBER},
     {"path_boundary", "path", "boundary", K_STRING},
+    {"path_filter", "path", "filter", K_STRING},
     {"path_seed", "path", "seed", K_NUMBER},
 };
 #define MAPPING_COUNT (sizeof table / sizeof table[0])

@@ -1,11 +1,13 @@
 /* test_path.c - method "path" (random walks in the medium) against radiative transfer's exact half-space
  * answers (Chandrasekhar's H-function for isotropic scattering, index-matched boundary), for both boundary
  * conventions; its own noise estimate against the error it makes; determinism; cancel and time budget; the
- * profiles' diffuse exit against the walks on a half-space. */
+ * profiles' diffuse exit against the walks on a half-space; Cycles' shading-normal correction at grazing views;
+ * the box pixel filter's coverage. */
 #include "frame_plan.h"
 #include "half_space.h"
 #include "path.h"
 #include "test_support.h"
+#include "valid_reflection.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -237,12 +239,109 @@ static void check_exit_against_walks(lucent_renderer *r, const char *square)
     }
 }
 
+/* Cycles' correction (boundary "cycles"): a normal whose mirror image of the view clears the surface is kept;
+ * else the result is the unit normal in the plane of n and g, turned towards g, whose mirror image sits
+ * exactly at the threshold min(0.9 g.i, 0.01). 2000 grazing views of normals leaning up to 30 degrees. */
+static void check_valid_reflection(void)
+{
+    const double g[3] = {0.0, 0.0, 1.0};
+    double worst_unit = 0.0, worst_plane = 0.0, worst_level = 0.0, out[3];
+    int kept = 0, turned = 0, wrong_way = 0, changed_valid = 0;
+    uint64_t state = 12345;
+    for (int k = 0; k < 2000; k++) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        double u1 = (double)(state >> 11) * 0x1.0p-53;
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        double u2 = (double)(state >> 11) * 0x1.0p-53;
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        double u3 = (double)(state >> 11) * 0x1.0p-53;
+        double lean = u1 * 30.0 * PI / 180.0, view = (0.05 + 89.8 * u2) * PI / 180.0, phi = 2.0 * PI * u3;
+        double n[3] = {sin(lean), 0.0, cos(lean)};              /* leans towards +x */
+        double i[3] = {cos(view) * cos(phi), cos(view) * sin(phi), sin(view)};   /* view above the surface */
+        valid_reflection_normal(g, i, n, out);
+        double threshold = fmin(0.9 * i[2], 0.01);
+        double before = 2.0 * (n[0] * i[0] + n[1] * i[1] + n[2] * i[2]) * n[2] - i[2];
+        double on = out[0] * i[0] + out[1] * i[1] + out[2] * i[2], after = 2.0 * on * out[2] - i[2];
+        if (before >= threshold) {
+            kept++;
+            changed_valid += out[0] != n[0] || out[1] != n[1] || out[2] != n[2];
+            continue;
+        }
+        turned++;
+        worst_unit = fmax(worst_unit, fabs(sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]) - 1.0));
+        worst_plane = fmax(worst_plane, fabs(out[1]));            /* the plane of n and g is y = 0 */
+        worst_level = fmax(worst_level, fabs(after - threshold));
+        wrong_way += out[2] < n[2] - 1e-12;
+    }
+    printf("valid reflection: %d kept, %d turned; worst |len - 1| %.2g, off-plane %.2g, |R.g - threshold| %.2g\n",
+           kept, turned, worst_unit, worst_plane, worst_level);
+    test_check(kept > 100 && turned > 100, "both cases drawn (%d kept, %d turned)", kept, turned);
+    test_check(changed_valid == 0, "a valid normal is returned unchanged (%d changed)", changed_valid);
+    test_check(worst_unit < 1e-9 && worst_plane < 1e-12, "turned normals are unit and in the plane of n and g");
+    test_check(worst_level < 1e-6, "the view's mirror image sits at the threshold (worst %.2g)", worst_level);
+    test_check(wrong_way == 0, "normals turn towards g (%d turned away)", wrong_way);
+}
+
+/* Box filter: a pixel's coverage is the share of it the mesh covers, against the point filter's coverage at 8 x 8
+ * times the resolution, over the pixels a slanted square's edges cross; radiance premultiplied (a miss adds 0). */
+static void check_box_filter(const char *square)
+{
+    const int side = 16, fine = 8;
+    char json[2048];
+    lucent_image img[2];
+    for (int k = 0; k < 2; k++) {
+        snprintf(json, sizeof json,
+                 "{\"mesh\":{\"file\":\"%s\"},\"scale_mm\":100,\"width\":%d,\"height\":%d,\"method\":\"path\","
+                 "\"material\":{\"sigma_a\":[5,5,5],\"sigma_s_prime\":[0.5,0.5,0.5],\"eta\":1},"
+                 "\"camera\":{\"direction\":[0.35,0.2,-1]},\"lights\":[{\"direction\":[0,0,-1]}],"
+                 "\"path\":{\"boundary\":\"cycles\",\"filter\":\"%s\"}}",
+                 square, k ? side * fine : side, k ? side * fine : side, k ? "point" : "box");
+        struct test_fixture f;
+        test_fixture_open(&f, json);
+        struct path_options o = {.samples = k ? 1 : 256, .boundary = f.scene.path_boundary,
+                                 .filter = f.scene.path_filter, .seed = 3};
+        struct path_report report;
+        lucent_error err = {0};
+        if (fixture_render(&f, &o, &img[k], &report, &err) != LUCENT_OK)
+            test_die("path_render", &err);
+        lucent_mesh_free(f.mesh);
+    }
+    int edge = 0, wrong_premultiplied = 0;
+    double worst = 0.0, box_sum = 0.0, fine_sum = 0.0;
+    for (int y = 0; y < side; y++)
+        for (int x = 0; x < side; x++) {
+            int hit = 0;
+            for (int v = 0; v < fine; v++)
+                for (int u = 0; u < fine; u++)
+                    hit += img[1].rgba[((size_t)(y * fine + v) * side * fine + x * fine + u) * 4 + 3] > 0.0f;
+            double share = (double)hit / (fine * fine), alpha = img[0].rgba[((size_t)y * side + x) * 4 + 3];
+            box_sum += alpha;
+            fine_sum += share;
+            if (hit > 0 && hit < fine * fine) {
+                edge++;
+                worst = fmax(worst, fabs(alpha - share));
+            }
+            /* light only where it hit: black where nothing was */
+            wrong_premultiplied += alpha == 0.0f && img[0].rgba[((size_t)y * side + x) * 4] != 0.0f;
+        }
+    printf("     box filter: %d edge pixels, worst |coverage - 8x8 share| %.3f, coverage summed %.2f against %.2f\n",
+           edge, worst, box_sum, fine_sum);
+    /* 256 passes: a coverage's standard error is at most 0.031; the 8 x 8 share is within 1/8 along an edge */
+    test_check(edge >= 8 && worst < 0.2 && fabs(box_sum - fine_sum) < 0.01 * fine_sum + 1.0 && !wrong_premultiplied,
+               "box filter: coverage is the share of the pixel hit (%d edge pixels, worst %.3f; summed %.2f vs %.2f)",
+               edge, worst, box_sum, fine_sum);
+    lucent_image_free(&img[0]);
+    lucent_image_free(&img[1]);
+}
+
 int main(void)
 {
     char square[1024];
     snprintf(square, sizeof square, "%s", test_write_square_obj());
+    check_valid_reflection();
     check_half_space(square, "fresnel", 40000);
     check_half_space(square, "cycles", 40000);
+    check_box_filter(square);
     check_determinism();
     check_cancel_and_budget();
     check_cancel_mid_walk();

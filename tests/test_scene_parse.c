@@ -211,6 +211,8 @@ static const parse_case cases[] = {
     {"{\"path\": {\"samples\": 2.5}}", 0, INV, "path.samples"},
     {"{\"path\": {\"time_s\": -1}}", 0, INV, "path.time_s"},
     {"{\"path\": {\"boundary\": \"rough\"}}", 0, INV, "path.boundary"},
+    {"{\"path\": {\"filter\": \"gaussian\"}}", 0, INV, "path.filter"},
+    {"{\"method\": \"path\", \"path\": {\"filter\": \"box\"}}", 0, OK, ""},
     {"{\"path\": {\"seed\": -1}}", 0, INV, "path.seed"},
     {"{\"path\": {\"bounces\": 3}}", 0, INV, "path.bounces"},
     {"{\"path\": []}", 0, INV, "path"},

@@ -74,6 +74,8 @@ static const char *const method_names[] = {
     [LUCENT_METHOD_AUTO] = "auto", [LUCENT_METHOD_PATH] = "path", NULL};
 static const char *const path_boundary_names[] = {
     [LUCENT_PATH_FRESNEL] = "fresnel", [LUCENT_PATH_CYCLES] = "cycles", NULL};
+static const char *const path_filter_names[] = {
+    [LUCENT_PATH_FILTER_POINT] = "point", [LUCENT_PATH_FILTER_BOX] = "box", NULL};
 static const char *const profile_names[] = {
     [LUCENT_PROFILE_DIPOLE] = "dipole", [LUCENT_PROFILE_BETTER_DIPOLE] = "better_dipole",
     [LUCENT_PROFILE_BURLEY] = "burley", [LUCENT_PROFILE_ASYMPTOTIC_DIPOLE] = "asymptotic_dipole",
@@ -94,7 +96,7 @@ static const char *const top_keys[] = {"mesh", "scale_mm", "material", "lights",
                                        "exposure", "format", "reference", "path", "fallback",
                                        "single_scattering", NULL};
 static const char *const reference_keys[] = {"points", "threshold", NULL};
-static const char *const path_keys[] = {"samples", "time_s", "boundary", "seed", NULL};
+static const char *const path_keys[] = {"samples", "time_s", "boundary", "filter", "seed", NULL};
 static const char *const mesh_keys[] = {"builtin", "triangles", "file", "id", NULL};
 static const char *const material_keys[] = {"preset", "sigma_a", "sigma_s_prime", "eta", "g", "profile", NULL};
 static const char *const directional_keys[] = {"type", "direction", "color", "intensity", NULL};
@@ -774,13 +776,14 @@ static lucent_status parse_reference(json_t *v, lucent_scene *s, lucent_error *e
 }
 
 /* Options of method "path": {"samples": 1..65536, "time_s": 0 (none) .. 86400, "boundary": "fresnel" or
- * "cycles", "seed": 0..2^31-1}. */
+ * "cycles", "filter": "point" or "box", "seed": 0..2^31-1}. */
 static lucent_status parse_path(json_t *v, lucent_scene *s, lucent_error *err)
 {
     static const range samples = {1, LUCENT_MAX_PATH_SAMPLES, 0, NULL};
     static const range time_s = {0.0, LUCENT_MAX_PATH_TIME_S, 0, "0 sets no time limit"};
     static const range seed = {0, 2147483647.0, 0, NULL};
-    int count = (int)s->path_samples, boundary = (int)s->path_boundary, seed_value = (int)s->path_seed;
+    int count = (int)s->path_samples, boundary = (int)s->path_boundary, filter = (int)s->path_filter;
+    int seed_value = (int)s->path_seed;
     if (!v)
         return LUCENT_OK;
     lucent_status st = require_object(v, "path", err);
@@ -793,9 +796,12 @@ static lucent_status parse_path(json_t *v, lucent_scene *s, lucent_error *err)
     if (st == LUCENT_OK)
         st = get_enum(v, "path", "boundary", path_boundary_names, &boundary, err);
     if (st == LUCENT_OK)
+        st = get_enum(v, "path", "filter", path_filter_names, &filter, err);
+    if (st == LUCENT_OK)
         st = get_int(v, "path", "seed", &seed, &seed_value, err);
     s->path_samples = (uint32_t)count;
     s->path_boundary = (lucent_path_boundary)boundary;
+    s->path_filter = (lucent_path_filter)filter;
     s->path_seed = (uint32_t)seed_value;
     return st;
 }

@@ -39,7 +39,12 @@ void view_frame_any_up(const double forward[3], double up[3])
 
 void view_frame_pixel_ray(const struct view_frame *v, int x, int y, int width, int height, double dir[3])
 {
-    double ndc_x = 2.0 * (x + 0.5) / width - 1.0, ndc_y = 2.0 * (y + 0.5) / height - 1.0;
+    view_frame_ray_through(v, x + 0.5, y + 0.5, width, height, dir);
+}
+
+void view_frame_ray_through(const struct view_frame *v, double px, double py, int width, int height, double dir[3])
+{
+    double ndc_x = 2.0 * px / width - 1.0, ndc_y = 2.0 * py / height - 1.0;
     for (int i = 0; i < 3; i++)
         dir[i] = v->forward[i] + v->right[i] * ndc_x * v->half_w + v->down[i] * ndc_y * v->half_h;
     v3_normalize(dir);

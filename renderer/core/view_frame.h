@@ -19,6 +19,9 @@ int view_frame_look(struct view_frame *v, const double eye[3], const double forw
 void view_frame_any_up(const double forward[3], double up[3]);
 /* Unit direction of the ray through the centre of pixel (x, y) of a width x height perspective image. */
 void view_frame_pixel_ray(const struct view_frame *v, int x, int y, int width, int height, double dir[3]);
+/* Unit direction of the ray through image position (px, py) in pixels from the top-left corner (pixel (x, y)
+ * spans [x, x + 1) x [y, y + 1)). */
+void view_frame_ray_through(const struct view_frame *v, double px, double py, int width, int height, double dir[3]);
 /* World -> clip matrix, column-major. */
 void view_frame_clip(const struct view_frame *v, double m[16]);
 

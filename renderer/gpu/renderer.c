@@ -322,7 +322,8 @@ static lucent_status render_path(lucent_renderer *r, const lucent_scene *scene, 
     if (st != LUCENT_OK)
         return st;
     struct path_options options = {.samples = scene->path_samples, .time_s = scene->path_time_s,
-                                   .boundary = scene->path_boundary, .seed = scene->path_seed,
+                                   .boundary = scene->path_boundary, .filter = scene->path_filter,
+                                   .seed = scene->path_seed,
                                    .cancel = &r->cancel};
     struct path_report report;
     st = path_render(scene, gm->mesh, &camera, scale_mm, &options, scene->format == LUCENT_FORMAT_EXR, out, &report,
@@ -332,10 +333,11 @@ static lucent_status render_path(lucent_renderer *r, const lucent_scene *scene, 
     stats->triangles = gm->mesh->triangle_count;
     stats->profile = LUCENT_PROFILE_DEFAULT;
     snprintf(stats->modelled, sizeof stats->modelled,
-             "{\"method\":\"path\",\"backend\":\"cpu\",\"scale_mm\":%.9g,\"boundary\":\"%s\",\"samples\":%u,"
-             "\"samples_asked\":%u,\"seed\":%u,\"rel_std_error\":%.4g,\"mean_steps\":%.4g,\"escaped_share\":%.4g,"
-             "\"ms_walks\":%.3f}",
-             scale_mm, scene->path_boundary == LUCENT_PATH_CYCLES ? "cycles" : "fresnel", report.samples,
+             "{\"method\":\"path\",\"backend\":\"cpu\",\"scale_mm\":%.9g,\"boundary\":\"%s\",\"filter\":\"%s\","
+             "\"samples\":%u,\"samples_asked\":%u,\"seed\":%u,\"rel_std_error\":%.4g,\"mean_steps\":%.4g,"
+             "\"escaped_share\":%.4g,\"ms_walks\":%.3f}",
+             scale_mm, scene->path_boundary == LUCENT_PATH_CYCLES ? "cycles" : "fresnel",
+             scene->path_filter == LUCENT_PATH_FILTER_BOX ? "box" : "point", report.samples,
              scene->path_samples, scene->path_seed, report.rel_std_error, report.mean_steps, report.escaped_share,
              report.ms);
     return LUCENT_OK;

@@ -8,8 +8,9 @@
  *   point y, spread over the outside hemisphere as transmitted light is spread, Ft(cos) cos / (pi (1 -
  *   F_ext)), with F_ext the hemispherical Fresnel reflectance from outside: each light adds E cos_l
  *   Ft(eta, cos_l) / (pi (1 - F_ext)). Energy is conserved: a white medium returns all light that enters.
- * - "cycles" (Blender Cycles' random walk): the walk enters in a cosine-distributed direction, weight 1,
- *   and leaves at the first boundary hit; each light adds E cos_l / pi. No Fresnel anywhere.
+ * - "cycles" (Blender Cycles' random walk): the walk enters in a cosine-distributed direction about the
+ *   shading normal as Cycles corrects it at grazing views (valid_reflection.h), weight 1, and leaves at the
+ *   first boundary hit; each light adds E cos_l / pi. No Fresnel anywhere.
  * Free flights are exponential in sigma_t = sigma_a + sigma_s' / (1 - g) (mm^-1), directions after a
  * scattering event Henyey-Greenstein with g. Absorption multiplies the weight by the albedo; below
  * ROULETTE_WEIGHT a walk survives with probability weight / ROULETTE_WEIGHT at that weight (Russian roulette:
@@ -22,6 +23,7 @@
 #include "linalg.h"
 #include "parallel.h"
 #include "ref_lights.h"
+#include "valid_reflection.h"
 #include "visible_point.h"
 
 #include <math.h>
@@ -48,12 +50,14 @@ struct context {
     struct ref_light lights[LUCENT_MAX_LIGHTS];
     int light_count, shadows;
     lucent_path_boundary boundary;
+    lucent_path_filter filter;
     double scale_mm, eta, g, exit_norm;     /* exit_norm: 1 / (pi (1 - F_ext)), or 1 / pi */
     double sigma_t[3], albedo[3];
     double offset;                          /* SURFACE_OFFSET x radius */
     uint64_t seed;
     uint32_t pass, batch;                   /* the passes [pass, pass + batch) run now, row by row */
     double *sum, *sum_sq;                   /* per pixel and channel, over passes */
+    uint32_t *hits;                         /* per pixel: passes whose ray hit the mesh (box filter) */
     const atomic_int *cancel;
     lucent_image *out;
     struct counters counters;
@@ -143,7 +147,8 @@ static double light_at(const struct context *ctx, const double y[3], const doubl
 }
 
 /* The direction the walk starts in, and its weight: refraction of the camera ray (fresnel), or a
- * cosine-distributed direction into the medium (cycles). n and g face the camera. */
+ * cosine-distributed direction into the medium about Cycles' shading normal (cycles). n and g face the
+ * camera. */
 static double enter(const struct context *ctx, const double dir[3], const double n[3], const double g[3],
                     uint64_t *rng, double d[3])
 {
@@ -156,6 +161,10 @@ static double enter(const struct context *ctx, const double dir[3], const double
             d[a] = k * dir[a] + (k * cos_i - cos_t) * n[a];
         v3_normalize(d);
     } else {
+        double eye[3] = {-dir[0], -dir[1], -dir[2]}, shading[3];
+        valid_reflection_normal(g, eye, n, shading);
+        for (int a = 0; a < 3; a++)
+            inward[a] = -shading[a];
         around(inward, sqrt(uniform(rng)), uniform(rng), d);
     }
     if (v3_dot(d, g) >= 0.0)   /* a shading normal far from the geometric one */
@@ -213,15 +222,23 @@ static double walk(struct context *ctx, int c, const double p0[3], const double 
     }
 }
 
-/* One pass of a pixel: one walk per channel; the first pass also writes coverage and AOVs. */
+/* One pass of a pixel: one walk per channel from the pixel centre's ray (point filter) or from a ray through
+ * a uniform random point of the pixel (box; a miss adds 0); the first hit also writes coverage and AOVs. */
 static void shade_pixel(struct context *ctx, int x, int y, uint32_t pass, unsigned long long *walks,
                         unsigned long long *steps, unsigned long long *escaped)
 {
     lucent_image *img = ctx->out;
-    struct visible_point vp;   /* a back face in view: the medium is on the camera's far side of it */
-    if (!visible_point_at(ctx->camera, ctx->bvh, ctx->mesh, NULL, x, y, img->width, img->height, &vp))
-        return;
     size_t i = (size_t)y * img->width + x;
+    double px = x + 0.5, py = y + 0.5;
+    if (ctx->filter == LUCENT_PATH_FILTER_BOX) {
+        uint64_t rng = walk_seed(ctx, i, pass, 3);   /* channels are 0..2 */
+        px = x + uniform(&rng);
+        py = y + uniform(&rng);
+    }
+    struct visible_point vp;   /* a back face in view: the medium is on the camera's far side of it */
+    if (!visible_point_at(ctx->camera, ctx->bvh, ctx->mesh, NULL, px, py, img->width, img->height, &vp))
+        return;
+    int first_hit = ctx->filter == LUCENT_PATH_FILTER_BOX ? ctx->hits[i]++ == 0 : pass == 0;
     for (int c = 0; c < 3; c++) {
         uint64_t rng = walk_seed(ctx, i, pass, c);
         double v = walk(ctx, c, vp.p, vp.n, vp.g, vp.dir, &rng, steps, escaped);
@@ -229,7 +246,7 @@ static void shade_pixel(struct context *ctx, int x, int y, uint32_t pass, unsign
         ctx->sum_sq[i * 3 + c] += v * v;
     }
     *walks += 3;
-    if (pass == 0)
+    if (first_hit)
         visible_point_write_aovs(img, i, &vp);
 }
 
@@ -282,6 +299,8 @@ static double finish_image(struct context *ctx, uint32_t passes)
             var += fmax(spread, 0.0) / passes;
             power += mean * mean;
         }
+        if (ctx->filter == LUCENT_PATH_FILTER_BOX)   /* premultiplied, as the radiance (a miss added 0) */
+            img->rgba[i * 4 + 3] = (float)ctx->hits[i] / (float)passes;
     }
     return power > 0.0 && passes > 1 ? sqrt(var / power) : 0.0;
 }
@@ -291,7 +310,8 @@ lucent_status path_render(const lucent_scene *scene, const struct lucent_mesh *m
                           struct path_report *report, lucent_error *err)
 {
     struct context ctx = {.scene = scene, .mesh = mesh, .camera = camera, .scale_mm = scale_mm,
-                          .eta = scene->material.eta, .boundary = options->boundary, .seed = options->seed,
+                          .eta = scene->material.eta, .boundary = options->boundary, .filter = options->filter,
+                          .seed = options->seed,
                           .cancel = options->cancel, .out = out};
     *report = (struct path_report){0};
     *out = (lucent_image){0};
@@ -307,7 +327,8 @@ lucent_status path_render(const lucent_scene *scene, const struct lucent_mesh *m
     size_t pixels = (size_t)scene->width * scene->height;
     ctx.sum = calloc(pixels * 3, sizeof *ctx.sum);
     ctx.sum_sq = calloc(pixels * 3, sizeof *ctx.sum_sq);
-    if (!ctx.sum || !ctx.sum_sq) {
+    ctx.hits = calloc(pixels, sizeof *ctx.hits);
+    if (!ctx.sum || !ctx.sum_sq || !ctx.hits) {
         st = lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory for %zu pixels' sums", pixels);
         goto fail;
     }
@@ -339,11 +360,13 @@ lucent_status path_render(const lucent_scene *scene, const struct lucent_mesh *m
     bvh_free(ctx.bvh);
     free(ctx.sum);
     free(ctx.sum_sq);
+    free(ctx.hits);
     return LUCENT_OK;
 fail:
     bvh_free(ctx.bvh);
     free(ctx.sum);
     free(ctx.sum_sq);
+    free(ctx.hits);
     lucent_image_free(out);
     return st;
 }

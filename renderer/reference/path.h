@@ -13,6 +13,7 @@ struct path_options {
     uint32_t samples;          /* walks per pixel and channel */
     double time_s;             /* 0: none; else no further pass of one sample per pixel starts after this */
     lucent_path_boundary boundary;
+    lucent_path_filter filter;
     uint64_t seed;
     int threads;               /* 0 = one per online CPU */
     const atomic_int *cancel;  /* when it turns non-zero the render stops (LUCENT_E_CANCELLED) */
@@ -28,7 +29,8 @@ struct path_report {
 };
 
 /* Renders `scene` (already validated) of `mesh` through `camera` at scale_mm millimetres per unit, as
- * reference_render fills its image (radiance, coverage, AOVs when with_aovs). Deterministic for a
+ * reference_render fills its image (radiance, coverage, AOVs when with_aovs; with the box filter, coverage is
+ * the share of passes that hit and AOVs are those of the first hit). Deterministic for a
  * given scene, options and sample count, whatever the thread count. */
 lucent_status path_render(const lucent_scene *scene, const struct lucent_mesh *mesh, const struct view_frame *camera,
                           double scale_mm, const struct path_options *options, int with_aovs, lucent_image *out,

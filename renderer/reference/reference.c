@@ -462,7 +462,8 @@ static void shade_pixel(struct context *ctx, int x, int y)
     lucent_image *img = ctx->out;
     double sum[3] = {0.0, 0.0, 0.0};
     struct visible_point v;
-    if (!visible_point_at(ctx->camera, ctx->bvh, ctx->mesh, ctx->vertex_curvature, x, y, img->width, img->height, &v))
+    if (!visible_point_at(ctx->camera, ctx->bvh, ctx->mesh, ctx->vertex_curvature, x + 0.5, y + 0.5, img->width,
+                          img->height, &v))
         return;
     struct near_disc near = {{0.0, 0.0, 0.0}, 0};
     struct exit_point e = exit_point_at(ctx, &v);

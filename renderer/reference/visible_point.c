@@ -5,10 +5,11 @@
 #include <math.h>
 
 int visible_point_at(const struct view_frame *camera, const struct bvh *bvh, const struct lucent_mesh *mesh,
-                     const float *vertex_curvature, int x, int y, int width, int height, struct visible_point *out)
+                     const float *vertex_curvature, double px, double py, int width, int height,
+                     struct visible_point *out)
 {
     struct bvh_hit hit;
-    view_frame_pixel_ray(camera, x, y, width, height, out->dir);
+    view_frame_ray_through(camera, px, py, width, height, out->dir);
     if (!bvh_closest(bvh, camera->eye, out->dir, INFINITY, &hit))
         return 0;
     mesh_surface_at(mesh, hit.triangle, hit.u, hit.v, out->p, out->n, out->g);

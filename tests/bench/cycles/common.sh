@@ -65,10 +65,21 @@ squares() {
 # field FILE KEY: the first numeric value of "KEY": in FILE (lucent-render's --stats and --compare JSON)
 field() { grep -o "\"$2\":[-0-9.e+]*" "$1" | head -1 | cut -d: -f2; }
 
-# cycles SCENE OUT.exr SAMPLES SEED LOG: renders with Blender (scene.py, Subsurface Scattering node); prints the
-# seconds Cycles itself reports (scene sync, BVH, sampling; not Blender's start). Needs $blender and $here.
+# cycles SCENE OUT.exr SAMPLES SEED LOG [FILTER]: renders with Blender (scene.py, Subsurface Scattering node, pixel
+# filter point (default) or box); prints the seconds Cycles itself reports (scene sync, BVH, sampling; not
+# Blender's start). Needs $blender and $here.
+# Cycles is deterministic for a seed, so an image newer than its scene, scene.py and jensen_to_cycles.py, with
+# its log, is kept and its seconds read from that log (scenes.py rewrites a scene only when it changes);
+# remove DIR to render everything again (another Blender, thread count or machine).
 cycles() {
-    "$blender" -b --factory-startup -P "$here/scene.py" -- "$1" "$2" --samples "$3" --seed "$4" > "$5" 2>&1 &&
-        [ -s "$2" ] || { echo "Cycles failed on $1 (see $5)" >&2; return 1; }
+    local dep fresh=1
+    for dep in "$1" "$here/scene.py" "$here/jensen_to_cycles.py"; do
+        [ -s "$2" ] && [ "$2" -nt "$dep" ] || fresh=0
+    done
+    if [ "$fresh" -eq 0 ] || ! grep -q '^CYCLES_INFO ' "$5" 2>/dev/null; then
+        "$blender" -b --factory-startup -P "$here/scene.py" -- "$1" "$2" --samples "$3" --seed "$4" \
+            --filter "${6:-point}" > "$5" 2>&1 &&
+            [ -s "$2" ] || { echo "Cycles failed on $1 (see $5)" >&2; return 1; }
+    fi
     grep '^CYCLES_INFO ' "$5" | grep -o '"seconds": [0-9.]*' | cut -d' ' -f2
 }

@@ -67,5 +67,7 @@ for name in names:
            "camera": {"position": [c[0], c[1], c[2] + dist], "target": c, "up": [0, 1, 0], "fov_deg": fov},
            "width": size, "height": size}
     os.makedirs(os.path.join(out, name), exist_ok=True)
-    with open(os.path.join(out, name, "scene.json"), "w") as fh:
-        json.dump(doc, fh, indent=1)
+    path, text = os.path.join(out, name, "scene.json"), json.dumps(doc, indent=1)
+    if not os.path.exists(path) or open(path).read() != text:   # unchanged: its age keeps Cycles' image
+        with open(path, "w") as fh:
+            fh.write(text)
