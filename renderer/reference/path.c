@@ -57,7 +57,7 @@ struct context {
     uint64_t seed;
     uint32_t pass, batch;                   /* the passes [pass, pass + batch) run now, row by row */
     double *sum, *sum_sq;                   /* per pixel and channel, over passes */
-    uint32_t *hits;                         /* per pixel: passes whose ray hit the mesh (box filter) */
+    uint32_t *hits;                         /* per pixel: passes whose ray hit the mesh (box filter only) */
     const atomic_int *cancel;
     lucent_image *out;
     struct counters counters;
@@ -327,8 +327,8 @@ lucent_status path_render(const lucent_scene *scene, const struct lucent_mesh *m
     size_t pixels = (size_t)scene->width * scene->height;
     ctx.sum = calloc(pixels * 3, sizeof *ctx.sum);
     ctx.sum_sq = calloc(pixels * 3, sizeof *ctx.sum_sq);
-    ctx.hits = calloc(pixels, sizeof *ctx.hits);
-    if (!ctx.sum || !ctx.sum_sq || !ctx.hits) {
+    ctx.hits = options->filter == LUCENT_PATH_FILTER_BOX ? calloc(pixels, sizeof *ctx.hits) : NULL;
+    if (!ctx.sum || !ctx.sum_sq || (options->filter == LUCENT_PATH_FILTER_BOX && !ctx.hits)) {
         st = lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory for %zu pixels' sums", pixels);
         goto fail;
     }
