@@ -728,9 +728,9 @@ check "no Vulkan driver: ready on OpenGL (logged why), /readyz and Lucent-Modell
           curl -s "$base/readyz" | grep -q "\"backend\": *\"gl\"" && grep -qi "^Lucent-Modelled: .*\"backend\":\"gl\"" "$work/g.png.h" &&
           pngs "$work/g.png:96:80"'
 # Method "path" through GET: its query fields reach the render, and Lucent-Modelled says what it did.
-c=$(req "$work/p.png" GET "$base/v1/render?method=path&w=40&h=32&path_samples=3&path_boundary=cycles&path_seed=5")
-check "method=path with path_samples, path_boundary, path_seed ($c): modelled says so" \
-    eval 'grep -qi "^Lucent-Modelled: .*\"method\":\"path\".*\"boundary\":\"cycles\",\"samples\":3,\"samples_asked\":3,\"seed\":5" "$work/p.png.h" &&
+c=$(req "$work/p.png" GET "$base/v1/render?method=path&w=40&h=32&path_samples=3&path_boundary=cycles&path_filter=box&path_seed=5")
+check "method=path with path_samples, path_boundary, path_filter, path_seed ($c): modelled says so" \
+    eval 'grep -qi "^Lucent-Modelled: .*\"method\":\"path\".*\"boundary\":\"cycles\",\"filter\":\"box\",\"samples\":3,\"samples_asked\":3,\"seed\":5" "$work/p.png.h" &&
           pngs "$work/p.png:40:32"'
 stop "$pid"
 
