@@ -152,7 +152,7 @@ static double light_at(const struct context *ctx, const double y[3], const doubl
 static double enter(const struct context *ctx, const double dir[3], const double n[3], const double g[3],
                     uint64_t *rng, double d[3])
 {
-    double w = 1.0, inward[3] = {-n[0], -n[1], -n[2]};
+    double w = 1.0;
     if (ctx->boundary == LUCENT_PATH_FRESNEL) {
         double cos_i = fmin(fmax(-v3_dot(n, dir), 0.0), 1.0), k = 1.0 / ctx->eta;
         double cos_t = sqrt(fmax(0.0, 1.0 - k * k * (1.0 - cos_i * cos_i)));
@@ -163,8 +163,7 @@ static double enter(const struct context *ctx, const double dir[3], const double
     } else {
         double eye[3] = {-dir[0], -dir[1], -dir[2]}, shading[3];
         valid_reflection_normal(g, eye, n, shading);
-        for (int a = 0; a < 3; a++)
-            inward[a] = -shading[a];
+        double inward[3] = {-shading[0], -shading[1], -shading[2]};
         around(inward, sqrt(uniform(rng)), uniform(rng), d);
     }
     if (v3_dot(d, g) >= 0.0)   /* a shading normal far from the geometric one */
@@ -327,8 +326,8 @@ lucent_status path_render(const lucent_scene *scene, const struct lucent_mesh *m
     size_t pixels = (size_t)scene->width * scene->height;
     ctx.sum = calloc(pixels * 3, sizeof *ctx.sum);
     ctx.sum_sq = calloc(pixels * 3, sizeof *ctx.sum_sq);
-    ctx.hits = options->filter == LUCENT_PATH_FILTER_BOX ? calloc(pixels, sizeof *ctx.hits) : NULL;
-    if (!ctx.sum || !ctx.sum_sq || (options->filter == LUCENT_PATH_FILTER_BOX && !ctx.hits)) {
+    ctx.hits = ctx.filter == LUCENT_PATH_FILTER_BOX ? calloc(pixels, sizeof *ctx.hits) : NULL;
+    if (!ctx.sum || !ctx.sum_sq || (ctx.filter == LUCENT_PATH_FILTER_BOX && !ctx.hits)) {
         st = lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory for %zu pixels' sums", pixels);
         goto fail;
     }

@@ -22,12 +22,13 @@ void valid_reflection_normal(const double g[3], const double i[3], const double 
     /* n' = nx x + nz g with 2 (nx ix + nz iz) nz - iz = threshold: nz^2 = (c +- b) / (2 a). */
     double ix = v3_dot(i, x), iz = v3_dot(i, g), a = ix * ix + iz * iz;
     double b = sqrt(fmax(ix * ix * (a - threshold * threshold), 0.0)), c = iz * threshold + a;
-    double z2[2] = {(c + b) / (2.0 * a), (c - b) / (2.0 * a)}, r[2];
+    double z2[2] = {(c + b) / (2.0 * a), (c - b) / (2.0 * a)}, nx[2], nz[2], r[2];
     int valid[2];
     for (int k = 0; k < 2; k++) {
         valid[k] = z2[k] > 1e-5 && z2[k] <= 1.0 + 1e-5;
-        double nx = sqrt(fmax(1.0 - z2[k], 0.0)), nz = sqrt(fmax(z2[k], 0.0));
-        r[k] = 2.0 * (nx * ix + nz * iz) * nz - iz;
+        nx[k] = sqrt(fmax(1.0 - z2[k], 0.0));
+        nz[k] = sqrt(fmax(z2[k], 0.0));
+        r[k] = 2.0 * (nx[k] * ix + nz[k] * iz) * nz[k] - iz;
     }
     int pick;
     if (valid[0] && valid[1]) {
@@ -39,8 +40,6 @@ void valid_reflection_normal(const double g[3], const double i[3], const double 
         memcpy(out, g, 3 * sizeof *out);
         return;
     }
-    double nx = sqrt(fmax(1.0 - z2[pick], 0.0)), nz = sqrt(fmax(z2[pick], 0.0));
     for (int k = 0; k < 3; k++)
-        out[k] = nx * x[k] + nz * g[k];
+        out[k] = nx[pick] * x[k] + nz[pick] * g[k];
 }
-
