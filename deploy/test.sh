@@ -8,7 +8,10 @@ top=$(cd "$(dirname "$0")/.." && pwd)
 build=${LUCENT_BUILD_DIR:-$top/build}
 bash "$top/deploy/build.sh" -DLUCENT_WERROR=ON -DLUCENT_FAULT_INJECTION=ON
 cd "$build"
-ctest --output-on-failure --timeout 900 -j 1 -E '^container$'
+# Two tests at a time on CI's two cores: alone, a test keeps them 59% busy (daemons waiting on clients,
+# processes starting); two at a time took the suite from 18.0 to 14.2 minutes here (2026-12-07).
+jobs=$(nproc)
+ctest --output-on-failure --timeout 900 -j "$jobs" -E '^container$'
 # The container image test is mostly downloading and unpacking Debian packages: it runs beside the
 # sanitizer build, and its output is shown once that build is done.
 ctest --output-on-failure --timeout 900 -R '^container$' >"$build/container-test.log" 2>&1 &
@@ -21,5 +24,5 @@ container_rc=0
 wait "$container" || container_rc=$?
 cat "$build/container-test.log"
 cd "$sanitized"
-ctest --output-on-failure --timeout 900 -j 1
+ctest --output-on-failure --timeout 900 -j "$jobs"
 exit "$container_rc"

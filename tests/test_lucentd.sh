@@ -696,7 +696,7 @@ c=$(req "$work/k" POST "$base/v1/meshes" -H 'Content-Type: model/obj' --data-bin
 check "once they are gone the budget is free again ($(metric "$base/metrics") bytes held) and an upload is stored ($c)" \
     [ "$(metric "$base/metrics")" = 0 -a "$c" = 201 ]
 # Renders whose clients gave up while they waited are skipped, not rendered for no one.
-curl -s -o "$work/slow.png" "$base/v1/render?method=reference&w=160&h=160" &
+curl -s -o "$work/slow.png" "$base/v1/render?method=reference&w=128&h=128&reference_points=20000" &   # 3.3 s here
 slow=$!
 for _ in $(seq 1 200); do [ "$(METRIC=lucentd_renders_in_flight metric "$base/metrics")" = 1 ] && break; sleep 0.05; done
 for e in 1 2 3; do curl -s -o /dev/null --max-time 0.3 "$base/v1/render?w=64&h=64&exposure=$e"; done

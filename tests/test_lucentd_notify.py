@@ -120,7 +120,7 @@ check("watchdog: %d pings in the 2.5 s after READY, largest gap %.2f s (WATCHDOG
       % (len(pings), max(gaps) if gaps else -1), len(pings) >= 4 and gaps and max(gaps) < 1.0)
 # A slow render (method reference) shows in the status line as queued or running.
 answers = {}
-render_url = base + "/v1/render?w=256&h=256&method=reference&reference_points=50000"  # about 3 s here
+render_url = base + "/v1/render?w=128&h=128&method=reference&reference_points=20000"  # 3.3 s here, 2026-12-07
 slow = threading.Thread(target=lambda: answers.__setitem__("slow", get(render_url)))
 slow.start()
 t_render = time.monotonic()
