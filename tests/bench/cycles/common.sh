@@ -39,11 +39,11 @@ print(json.dumps(doc, indent=1))' "$@"
 }
 
 # write_scenes: makes $out and $bunny absolute and writes the documents of the scenes ${scenes[@]} under $out
-# (scenes.py; needs $here and $size)
+# (scenes.py; needs $here and $size; the icosphere's level is ${sphere_level:-5})
 write_scenes() {
     mkdir -p "$out"; out="$(cd "$out" && pwd)"
     [ -z "$bunny" ] || bunny="$(cd "$(dirname "$bunny")" && pwd)/$(basename "$bunny")"
-    python3 "$here/scenes.py" "$out" "$size" "${bunny:-}" "${scenes[@]}"
+    python3 "$here/scenes.py" "$out" "$size" "${bunny:-}" --sphere-level "${sphere_level:-5}" "${scenes[@]}"
 }
 
 # write_if_changed FILE: stdin into FILE unless FILE already holds it (its age then says what is stale)

@@ -4,7 +4,8 @@
 #
 # Usage:
 #   tests/bench/cycles/path_vs_cycles.sh --lucent-render build/lucent-render [--bunny build/bunny.obj] --out DIR
-#       [--size 256] [--cycles-samples 512] [--walks 64] [--filter point|box] [--scene NAME]... [--blender blender]
+#       [--size 256] [--cycles-samples 512] [--walks 64] [--filter point|box] [--sphere-level 5] [--scene NAME]...
+#       [--blender blender]
 #
 # Per scene: Cycles (Subsurface Scattering node) with seeds 0 and 1 (c0, c1), and path as two halves of --walks
 # under seeds 1 and 2 (p1, p2). Both are unbiased estimators of their own images, so
@@ -14,13 +15,15 @@
 # table, writes DIR/path_vs_cycles.md (path_vs_cycles-box.md with --filter box). --filter: point (default), one ray
 # through each pixel centre (Cycles' narrowest filter, 0.01 px); box, both renderers over the whole pixel (Cycles'
 # box, path's "filter": "box"), where silhouettes holding most of the light (back-lit) are not sub-pixel
-# sensitive. Not part of CI; minutes a scene (the walks and Cycles; Cycles' images are kept across runs).
+# sensitive. --sphere-level: the icosphere's subdivisions (5: 20480 triangles; 6: 81920, where the back-lit
+# sphere's rim follows the facets less; use another DIR per level, as the scenes keep their names).
+# Not part of CI; minutes a scene (the walks and Cycles; Cycles' images are kept across runs).
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 # shellcheck source=common.sh
 . "$here/common.sh"
-lucent=""; bunny=""; out=""; size=256; samples=512; walks=64; blender=blender; filter=point
+lucent=""; bunny=""; out=""; size=256; samples=512; walks=64; blender=blender; filter=point; sphere_level=5
 scenes=()
 while [ $# -gt 0 ]; do
     case "$1" in
@@ -31,15 +34,17 @@ while [ $# -gt 0 ]; do
         --cycles-samples) samples="$2"; shift 2 ;;
         --walks) walks="$2"; shift 2 ;;
         --filter) filter="$2"; shift 2 ;;
+        --sphere-level) sphere_level="$2"; shift 2 ;;
         --scene) scenes+=("$2"); shift 2 ;;
         --blender) blender="$2"; shift 2 ;;
-        -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+        -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
         *) die "unknown argument $1 (see --help)" ;;
     esac
 done
 require_inputs
 [ $((walks % 2)) -eq 0 ] && [ "$walks" -ge 2 ] || die "--walks must be even (two halves), got $walks"
 case "$filter" in point) tag="" ;; box) tag="-box" ;; *) die "--filter must be point or box, got $filter" ;; esac
+[[ $sphere_level =~ ^[0-7]$ ]] || die "--sphere-level must be 0..7, got $sphere_level"
 default_scenes skin1
 write_scenes
 
@@ -47,7 +52,8 @@ table="$out/path_vs_cycles$tag.md"
 {
     echo "CPU: $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1), $(nproc) threads;" \
          "$("$blender" --version 2>/dev/null | head -1); ${size}x${size}; Cycles $samples samples/pixel x 2 seeds" \
-         "(sss node); path $walks walks as 2 halves of $((walks / 2)), boundary cycles; pixel filter $filter."
+         "(sss node); path $walks walks as 2 halves of $((walks / 2)), boundary cycles; pixel filter $filter;" \
+         "sphere: icosphere level $sphere_level ($((20 << (2 * sphere_level))) triangles)."
     echo
     echo "| scene | Cycles s | path s | rel L2 of the means | mean ratio | Cycles noise | path noise |" \
          "w/o both noises | interval |"

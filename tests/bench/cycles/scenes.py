@@ -1,9 +1,14 @@
 # scenes.py - the Cycles comparison scenes as Lucent scene documents (compare.sh, fast_vs_cycles.sh): a unit
 # icosphere OBJ with exact normals and the bunny, side- or back-lit, each written to OUT/<name>/scene.json.
-# usage: python3 scenes.py OUT SIZE BUNNY_OBJ_OR_EMPTY NAME... (NAME: {sphere,bunny}-{marble,skin1}-{side,back})
+# usage: python3 scenes.py OUT SIZE BUNNY_OBJ_OR_EMPTY [--sphere-level L] NAME...
+#        (NAME: {sphere,bunny}-{marble,skin1}-{side,back}; L: the icosphere's subdivisions, 5 by default: 20480
+#        triangles in OUT/icosphere.obj, another level 20 x 4^L in OUT/icosphere-L.obj)
 import json, math, os, sys
 out, size, bunny = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 names = sys.argv[4:]
+level = 5
+if names[:1] == ["--sphere-level"]:
+    level, names = int(names[1]), names[2:]
 
 def icosphere(level):
     t = (1 + 5 ** 0.5) / 2
@@ -29,9 +34,9 @@ def icosphere(level):
         f = nf
     return v, f
 
-sphere = os.path.join(out, "icosphere.obj")
+sphere = os.path.join(out, "icosphere.obj" if level == 5 else "icosphere-%d.obj" % level)
 if not os.path.exists(sphere):
-    v, f = icosphere(5)
+    v, f = icosphere(level)
     with open(sphere, "w") as fh:
         fh.write("# unit icosphere, %d triangles, exact normals (tests/bench/cycles/scenes.py)\n" % len(f))
         for p in v:
