@@ -31,7 +31,7 @@ enum {
     F_CAMERA_POS, F_CAMERA_TARGET, F_CAMERA_DIR, F_CAMERA_UP, F_FOV,
     F_WIDTH, F_HEIGHT, F_SIZE, F_METHOD, F_SAMPLES, F_SAMPLING, F_FALLBACK, F_SINGLE_SCATTERING,
     F_NO_SINGLE_SCATTERING, F_PROJECTION_SIZE, F_SIDE_PROJECTION_SIZE, F_REFERENCE_POINTS,
-    F_REFERENCE_THRESHOLD, F_BACKGROUND, F_EXPOSURE, F_FORMAT, F_COUNT
+    F_REFERENCE_THRESHOLD, F_PATH_SAMPLES, F_PATH_TIME, F_PATH_BOUNDARY, F_PATH_FILTER, F_PATH_SEED, F_BACKGROUND, F_EXPOSURE, F_FORMAT, F_COUNT
 };
 
 static const struct { const char *path; enum kind kind; } rules[F_COUNT] = {
@@ -66,6 +66,11 @@ static const struct { const char *path; enum kind kind; } rules[F_COUNT] = {
     [F_SIDE_PROJECTION_SIZE] = {"side_projection_size", K_INT},
     [F_REFERENCE_POINTS] = {"reference.points", K_INT},
     [F_REFERENCE_THRESHOLD] = {"reference.threshold", K_NUM},
+    [F_PATH_SAMPLES] = {"path.samples", K_INT},
+    [F_PATH_TIME] = {"path.time_s", K_NUM},
+    [F_PATH_BOUNDARY] = {"path.boundary", K_STR},
+    [F_PATH_FILTER] = {"path.filter", K_STR},
+    [F_PATH_SEED] = {"path.seed", K_INT},
     [F_BACKGROUND] = {"background", K_VEC4},
     [F_EXPOSURE] = {"exposure", K_NUM},
     [F_FORMAT] = {"format", K_STR},
@@ -104,6 +109,12 @@ const struct cli_option scene_options[] = {
     {"side-projection-size", 0, "N", "side projection images' side (default half the front)", F_SIDE_PROJECTION_SIZE},
     {"reference-points", 0, "N", "method reference: irradiance points (0 = automatic)", F_REFERENCE_POINTS},
     {"reference-threshold", 0, "X", "method reference: hierarchical sum threshold, 0..1", F_REFERENCE_THRESHOLD},
+    {"path-samples", 0, "N", "method path: walks per pixel and channel, 1..65536 (default 16)", F_PATH_SAMPLES},
+    {"path-time", 0, "S", "method path: no further passes start after S seconds (default 0: no limit)", F_PATH_TIME},
+    {"path-boundary", 0, "B", "method path: fresnel (smooth dielectric, default) or cycles (Blender Cycles' walk)",
+     F_PATH_BOUNDARY},
+    {"path-filter", 0, "F", "method path: point (pixel centres, default) or box (the whole pixel)", F_PATH_FILTER},
+    {"path-seed", 0, "N", "method path: random seed, 0..2147483647 (default 0)", F_PATH_SEED},
     {"background", 0, "R,G,B,A", "linear RGBA composited under the object (default transparent)", F_BACKGROUND},
     {"exposure", 0, "STOPS", "output = radiance x 2^STOPS (default 0)", F_EXPOSURE},
     {"format", 0, "png|exr", "image format (default: -o's extension, else the --scene file's, else png)", F_FORMAT},

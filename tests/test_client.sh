@@ -153,6 +153,29 @@ printf '{"mesh": {"file": "%s"}, "width": 64, "height": 64, "projection_size": 1
 run render --scene "$work/scene_file.json" -o "$work/scene_file.png"
 check "--scene with mesh.file uploads and renders it" eval '[ $rc = 0 ] && pngs "$work/scene_file.png:64:64"'
 
+# Method path's flags: the same image as the same options in a --scene file, and the server modelled them.
+path_flags=(--method path --path-samples 2 --path-boundary cycles --path-filter box --path-seed 7 --path-time 60)
+cat >"$work/path.json" <<JSON
+{"mesh": {"builtin": "sphere"}, "material": {"preset": "skin1"}, "lights": [{"direction": [-1, 0, 0], "intensity": 3}], "width": 32,
+ "height": 32, "method": "path", "path": {"samples": 2, "boundary": "cycles", "filter": "box", "seed": 7, "time_s": 60}}
+JSON
+run -v render --mesh sphere --preset skin1 --light-dir -1,0,0 --light-intensity 3 --size 32x32 "${path_flags[@]}" -o "$work/path_flags.png"
+check "--path-* flags: 32x32, Lucent-Modelled names method path with boundary cycles and filter box" \
+    eval '[ $rc = 0 ] && pngs "$work/path_flags.png:32:32" &&
+          grep -qE "^lucent: Lucent-Modelled: .*\"method\":\"path\".*\"boundary\":\"cycles\".*\"filter\":\"box\"" "$work/err"'
+run render --scene "$work/path.json" -o "$work/path_scene.png"
+check "the same options in a --scene file: the same bytes" \
+    eval '[ $rc = 0 ] && cmp -s "$work/path_flags.png" "$work/path_scene.png"'
+run render --scene "$work/path.json" --path-seed 8 -o "$work/path_seed.png"
+check "--path-seed over the file's seed: another image" \
+    eval '[ $rc = 0 ] && pngs "$work/path_seed.png:32:32" && ! cmp -s "$work/path_seed.png" "$work/path_scene.png"'
+run render --mesh sphere --size 32x32 --method path --path-boundary glass -o "$work/x.png"
+check "--path-boundary out of its set: exit 1, 400 naming path.boundary" expect 1 '^lucent: 400 .*path\.boundary'
+run render --mesh sphere --size 32x32 --method path --path-samples 0 -o "$work/x.png"
+check "--path-samples 0: exit 1, 400 naming path.samples" expect 1 '^lucent: 400 .*path\.samples'
+run render --mesh sphere --size 32x32 --method path --path-samples two -o "$work/x.png"
+check "--path-samples not an integer: exit 2 before anything is sent" expect 2 '--path-samples'
+
 # Errors: exit codes and messages; no output file on failure.
 run render --bogus -o "$work/x.png"
 check "unknown flag: exit 2, names it" expect 2 "unknown option '--bogus'"
@@ -186,8 +209,8 @@ for c in "" render meshes health materials; do
     check "lucent${c:+ $c} --help: exit 0, usage on stdout" eval '[ $rc = 0 ] && grep -q "^Usage: lucent" "$work/out"'
 done
 run render --help
-check "render --help lists --sigma-s-prime, --light-pos, --camera-up, --background" \
-    eval 'grep -q -- --sigma-s-prime "$work/out" && grep -q -- --light-pos "$work/out" && grep -q -- --camera-up "$work/out" && grep -q -- --background "$work/out"'
+check "render --help lists --sigma-s-prime, --light-pos, --camera-up, --background, --profile, --path-samples" \
+    eval 'grep -q -- --sigma-s-prime "$work/out" && grep -q -- --light-pos "$work/out" && grep -q -- --camera-up "$work/out" && grep -q -- --background "$work/out" && grep -q -- --profile "$work/out" && grep -q -- --path-samples "$work/out"'
 
 # ---- daemon B: token required ----
 echo "s3cret-token" >"$work/token"
