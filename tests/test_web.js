@@ -371,6 +371,37 @@ async function main() {
       await page.uncheck('#compare');
     });
 
+    await step('path beside reference, with a profile and an exposure', async () => {
+      await page.selectOption('#profile', 'asymptotic_dipole');
+      await page.fill('#exposure', '1');
+      await page.selectOption('#method', 'path');
+      await page.check('#compare');
+      await page.selectOption('#method2', 'reference');
+      await waitShown(page, 'path');
+      await page.waitForFunction(() => document.getElementById('status-b').textContent.startsWith('reference, ') &&
+        !document.getElementById('figure-b').hasAttribute('aria-busy') &&
+        document.getElementById('accuracy').textContent.includes('reference against path'), null, { timeout: WAIT_MS });
+      const query = new URL(await page.inputValue('#link')).searchParams;
+      check('the link asks for method path with a time budget, the profile and the exposure',
+        query.get('method') === 'path' && query.get('path_time_s') === '20' &&
+        query.get('profile') === 'asymptotic_dipole' && query.get('exposure') === '1', query.toString());
+      const status = await page.textContent('#status-a');
+      const modelled = JSON.parse(await page.textContent('#modelled-a'));
+      check('path\'s walks and noise shown beside its image', /[0-9]+ walks a pixel, noise [0-9.]+/.test(status) &&
+        modelled.method === 'path', status);
+      const accuracy = await page.textContent('#accuracy');
+      const m = accuracy.match(/reference against path: relative L2 error ([0-9]+\.[0-9]+)/);
+      const expected = relL2(decodePng(await imageBytes(page, '#image-b')), decodePng(await imageBytes(page, '#image-a')));
+      check('the model (reference) against the walks (path), as computed here from the PNGs',
+        m && Math.abs(Number(m[1]) - expected) <= 0.02 * expected + 1e-3,
+        `page: "${accuracy}"; from the decoded PNGs: ${expected.toFixed(4)}`);
+      await page.uncheck('#compare');
+      await page.selectOption('#profile', '');
+      await page.fill('#exposure', '0');
+      await page.selectOption('#method', 'five');
+      await waitShown(page, 'five');
+    });
+
     await step('copy link', async () => {
       await page.click('#copy-link');
       await page.waitForFunction(() => document.getElementById('copy-status').textContent !== '', null,

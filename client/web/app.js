@@ -1,9 +1,15 @@
 // app.js - the preview page's logic: controls -> flat GET /v1/render query, debounced renders that supersede
-// each other (AbortController), timing and modelled headers, mesh uploads, and the error against "reference".
+// each other (AbortController), timing and modelled headers, mesh uploads, and the error against the truths
+// ("reference": the diffusion model summed exactly; "path": random walks in the medium).
 'use strict';
 
 const DEBOUNCE_MS = 250;
-const KEPT_REFERENCES = 8;
+const KEPT_TRUTHS = 8;
+// Methods whose images the others are scored against.
+const TRUTHS = ['reference', 'path'];
+// Method path stops starting passes after this long, so that a page's render returns within the daemon's
+// render deadline (60 s by default) at any size; the walks done are reported (Lucent-Modelled samples).
+const PATH_TIME_S = 20;
 
 const $ = (id) => document.getElementById(id);
 
@@ -63,7 +69,7 @@ const state = {
   ...DEFAULT_VIEW,
 };
 const materials = new Map(); // preset name -> {sigma_a, sigma_s_prime, eta}
-const references = new Map(); // scene key -> pixels of a "reference" render
+const truths = new Map(); // scene key -> Map(truth method -> pixels of its render)
 const errors = new Map(); // source ("five", "upload", ...) -> {error, control}
 let debounceTimer = 0;
 
@@ -146,9 +152,13 @@ function sceneFields(method) {
   else f.push(['sigma_a', state.sigma_a.join(',')], ['sigma_s_prime', state.sigma_s_prime.join(',')], ['eta', state.eta]);
   f.push(['light_dir', lightDirection().join(',')], ['light_intensity', state.intensity]);
   f.push(['camera_dir', cameraDirection().join(',')]);
+  if ($('profile').value) f.push(['profile', $('profile').value]);
   const size = $('size').value.trim();
   f.push(['w', size], ['h', size]);
+  const exposure = $('exposure').value.trim();
+  if (exposure !== '' && Number(exposure) !== 0) f.push(['exposure', exposure]);
   if (method !== undefined) f.push(['method', method], ['samples', $('samples').value.trim()]);
+  if (method === 'path') f.push(['path_time_s', PATH_TIME_S]);
   return f;
 }
 const toQuery = (fields) =>
@@ -182,7 +192,7 @@ async function problemFrom(resp) {
 
 // Query fields the server may name, and the control that sets them.
 const FIELD_CONTROLS = { w: 'size', h: 'size', samples: 'samples', method: 'method', mesh: 'mesh', preset: 'preset',
-  Authorization: 'token' };
+  profile: 'profile', exposure: 'exposure', Authorization: 'token' };
 
 function setError(source, error) {
   const old = errors.get(source);
@@ -242,6 +252,8 @@ function describeModelled(m) {
   if (m.views !== undefined) parts.push(`${m.views} view${m.views === 1 ? '' : 's'}`);
   if (m.sampling) parts.push(`${m.samples_per_channel} samples, ${m.sampling}`);
   if (m.points) parts.push(`${m.points} points, ${m.sum} sum, est. error ${m.estimated_rel_error}`);
+  if (m.rel_std_error !== undefined) parts.push(`${m.samples} walks a pixel, noise ${m.rel_std_error}`);
+  if (m.profile) parts.push(`profile ${m.profile}`);
   if (m.scale_mm) parts.push(`${round3(m.scale_mm)} mm per unit`);
   return parts.join('; ');
 }
@@ -286,10 +298,11 @@ async function render(slot, method) {
     slot.img.src = objectUrl;
     slot.img.alt = `${method} render of ${$('mesh').selectedOptions[0].text}, ${img.naturalWidth}x${img.naturalHeight}`;
     slot.pixels = { key, method, data: pixelsOf(img) };
-    if (method === 'reference') {
-      references.delete(key);
-      references.set(key, slot.pixels.data);
-      if (references.size > KEPT_REFERENCES) references.delete(references.keys().next().value);
+    if (TRUTHS.includes(method)) {
+      const kept = truths.get(key) || new Map();
+      truths.delete(key);
+      truths.set(key, kept.set(method, slot.pixels.data));
+      if (truths.size > KEPT_TRUTHS) truths.delete(truths.keys().next().value);
     }
     const modelledText = resp.headers.get('Lucent-Modelled');
     const modelled = modelledText ? JSON.parse(modelledText) : {};
@@ -329,24 +342,31 @@ function relL2(image, ref) {
   return den > 0 ? Math.sqrt(num / den) : NaN;
 }
 
+// Each image shown against each truth of the same scene other than itself: "five against reference",
+// "reference against path" (the diffusion model against the walks).
 function showAccuracy() {
   const key = sceneKey();
-  const ref = references.get(key);
+  const known = truths.get(key) || new Map();
   const lines = [];
+  let againstPath = false;
   for (const slot of [slots.a, slots.b]) {
-    if (slot.figure.hidden || !slot.pixels || slot.pixels.key !== key || slot.pixels.method === 'reference') continue;
-    if (!ref) continue;
+    if (slot.figure.hidden || !slot.pixels || slot.pixels.key !== key) continue;
     const img = slot.pixels.data;
-    if (img.width !== ref.width || img.height !== ref.height) continue;
-    const e = relL2(img, ref);
-    lines.push(`${slot.pixels.method} against reference: relative L2 error ${Number.isNaN(e) ? 'undefined (the reference is black)' : e.toFixed(4)}`);
+    for (const [truth, ref] of known) {
+      if (truth === slot.pixels.method || img.width !== ref.width || img.height !== ref.height) continue;
+      const e = relL2(img, ref);
+      againstPath = againstPath || truth === 'path';
+      lines.push(`${slot.pixels.method} against ${truth}: relative L2 error ` +
+        `${Number.isNaN(e) ? `undefined (the ${truth} image is black)` : e.toFixed(4)}`);
+    }
   }
   const out = $('accuracy');
   if (lines.length) {
     out.textContent = `${lines.join('; ')}. Computed in this page on the 8-bit sRGB pixels (composited over black), ` +
-      'not on linear radiance as the server\'s benchmarks do.';
+      `not on linear radiance as the server's benchmarks do${againstPath ? '; path\'s own noise is part of any error against it' : ''}.`;
   } else {
-    out.textContent = ref ? '' : 'No reference render of this scene yet: compare with "reference" to see the error.';
+    out.textContent = known.size ? '' :
+      'No truth of this scene rendered yet: compare with "reference" (the model) or "path" (the walks) to see the error.';
   }
 }
 
@@ -454,10 +474,10 @@ async function copyLink() {
   }
 }
 
-// The page's own query presets controls, e.g. /?mesh=torus&preset=marble&size=128&compare=reference.
+// The page's own query presets controls, e.g. /?mesh=torus&preset=marble&size=128&profile=burley&compare=path.
 function applyPageQuery() {
   const q = new URLSearchParams(location.search);
-  for (const id of ['mesh', 'method', 'size', 'samples']) if (q.has(id)) $(id).value = q.get(id);
+  for (const id of ['mesh', 'method', 'size', 'samples', 'profile', 'exposure']) if (q.has(id)) $(id).value = q.get(id);
   if (q.has('preset')) state.preset = q.get('preset');
   if (q.has('compare')) {
     $('compare').checked = true;
@@ -499,7 +519,7 @@ function wireOrbit(img) {
 }
 
 function wire() {
-  for (const id of ['mesh', 'method', 'method2', 'samples', 'size']) {
+  for (const id of ['mesh', 'method', 'method2', 'samples', 'size', 'profile', 'exposure']) {
     $(id).addEventListener('change', schedule);
     $(id).addEventListener('input', schedule);
   }

@@ -14,10 +14,12 @@
 //                                skin2, spectralon, wholemilk
 //   data-lucent-sigma-a, data-lucent-sigma-s-prime   "r,g,b" in mm^-1, instead of a preset
 //   data-lucent-eta, data-lucent-scale-mm, data-lucent-g
+//   data-lucent-profile          dipole | asymptotic_dipole | better_dipole | burley
 //   data-lucent-light-dir        "x,y,z": the way the light travels; data-lucent-light-pos for a point light
 //   data-lucent-light-intensity, data-lucent-light-color
 //   data-lucent-camera-pos, data-lucent-camera-target, data-lucent-fov
-//   data-lucent-method           five | single | auto | reference;  data-lucent-samples  1..64
+//   data-lucent-method           five | single | auto | reference | path;  data-lucent-samples  1..64
+//   data-lucent-path-samples, data-lucent-path-time-s   walks a pixel and a time budget for method path
 //   data-lucent-background       "r,g,b,a";  data-lucent-exposure  stops
 // and one shorthand:
 //   data-lucent-size             N sets both w and h (data-lucent-w / data-lucent-h set them apart)
