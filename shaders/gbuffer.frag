@@ -1,5 +1,5 @@
 // gbuffer.frag - writes position + camera distance and normal + coverage for the scatter pass; coverage is
-// 1 + the surface's convex curvature (1 / scene units), 0 where nothing was drawn.
+// 1 + the convex curvature the sphere factor takes (1 / scene units, mesh_ball_curvature), 0 where nothing was drawn.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "backend.glsl"

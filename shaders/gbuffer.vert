@@ -4,7 +4,7 @@
 #include "backend.glsl"
 PUSH_CONSTANTS Push { mat4 clip_from_world; vec4 eye; } push;
 layout(location = 0) in vec3 in_position;
-layout(location = 1) in vec4 in_normal_curvature;   // w: mesh_vertex_curvature, 1 / scene units
+layout(location = 1) in vec4 in_normal_curvature;   // w: mesh_ball_curvature, 1 / scene units
 layout(location = 0) out vec3 v_position;
 layout(location = 1) out vec3 v_normal;
 layout(location = 2) out float v_curvature;

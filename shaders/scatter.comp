@@ -195,7 +195,8 @@ Sources place_sources(int c, vec3 d, vec3 n_out, vec3 n_in)
     return q;
 }
 
-// The exit point's mean curvature (1/mm; 0 flat or concave), set by far_main and compose_main.
+// The exit point's curvature as the sphere factor takes it (1/mm; 0 flat or concave; less where the part is
+// thinner than its radius of curvature: mesh_ball_curvature), set by far_main and compose_main.
 float exit_curvature_mm = 0.0;
 
 float sphere_table(int c, int i, int j)
@@ -223,7 +224,7 @@ float sphere_factor(int c, vec3 d, vec3 n_out, vec3 n_in)
 }
 
 // The surface's convex curvature at a pixel in 1/mm, as the G-buffer's coverage holds it (1 + curvature in
-// 1 / scene units: mesh_vertex_curvature, interpolated; 0 where concave), as the reference takes it.
+// 1 / scene units: mesh_ball_curvature, interpolated; 0 where concave), as the reference takes it.
 float gbuffer_curvature(vec4 normal_coverage)
 {
     return max(normal_coverage.w - 1.0, 0.0) / frame.params.y;

@@ -1,8 +1,9 @@
 /* test_mesh_builtin.c - checks the procedural meshes (sphere, torus, protrusion), the bunny and the proxies
  * made from them: triangle counts, closed topology, outward unit normals, centring, limits, errors, and the
- * vertex curvature the sphere's weight reads. */
+ * vertex curvature the sphere's weight reads, limited where a part is thinner than it curves (mesh_ball_curvature). */
 #include "lucent.h"
 #include "mesh.h"
+#include "mesh_thickness.h"
 #include "test_support.h"
 
 #include <math.h>
@@ -480,6 +481,99 @@ static void check_vertex_curvature(void)
     lucent_mesh_free(mesh);
 }
 
+/* The first hit of the ray start + t dir with 0 < t < t_max over every triangle (Moller-Trumbore), or t_max. */
+static double brute_force_hit(const struct lucent_mesh *m, const double start[3], const double dir[3], double t_max)
+{
+    double best = t_max;
+    for (uint32_t t = 0; t < m->triangle_count; t++) {
+        double v[3][3], e1[3], e2[3], p[3], q[3], s[3];
+        for (int k = 0; k < 3; k++)
+            to_double(&m->positions[(size_t)m->indices[(size_t)t * 3 + k] * 3], v[k]);
+        for (int a = 0; a < 3; a++)
+            e1[a] = v[1][a] - v[0][a], e2[a] = v[2][a] - v[0][a], s[a] = start[a] - v[0][a];
+        p[0] = dir[1] * e2[2] - dir[2] * e2[1], p[1] = dir[2] * e2[0] - dir[0] * e2[2], p[2] = dir[0] * e2[1] - dir[1] * e2[0];
+        double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+        if (fabs(det) < 1e-300)
+            continue;
+        double u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) / det;
+        q[0] = s[1] * e1[2] - s[2] * e1[1], q[1] = s[2] * e1[0] - s[0] * e1[2], q[2] = s[0] * e1[1] - s[1] * e1[0];
+        double w = (dir[0] * q[0] + dir[1] * q[1] + dir[2] * q[2]) / det;
+        double hit = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
+        if (u >= 0.0 && w >= 0.0 && u + w <= 1.0 && hit > 0.0 && hit < best)
+            best = hit;
+    }
+    return best;
+}
+
+/* mesh_ball_curvature: a sphere keeps its curvature (flagged convex, skipped; unflagged, no part thinner than its
+ * radius of curvature); a lens (the sphere flattened tenfold) is limited to c min(thickness c, 1), the thickness
+ * found by casting every vertex's ray against every triangle, and at its poles (faces 0.2 thick, curvature about
+ * 0.1) to a few percent of c. */
+static void check_ball_curvature(void)
+{
+    lucent_mesh *sphere = NULL;
+    lucent_error err = {0};
+    if (!test_check(lucent_mesh_builtin("sphere", 2000, &sphere, &err) == LUCENT_OK, "sphere builds"))
+        return;
+    float *k = mesh_vertex_curvature(sphere), *ball = mesh_vertex_curvature(sphere);
+    int same[2] = {1, 1};
+    for (int flagged = 1; k && ball && flagged >= 0; flagged--) {
+        sphere->convex = flagged;
+        test_check(mesh_ball_curvature(sphere, ball, &err) == LUCENT_OK, "sphere (convex %d): ball curvature", flagged);
+        for (uint32_t v = 0; v < sphere->vertex_count; v++)
+            same[flagged] &= ball[v] == k[v];
+    }
+    test_check(k && ball && same[0] && same[1], "sphere: every vertex keeps its curvature (flagged convex %d, "
+               "not flagged %d)", same[1], same[0]);
+    free(k);
+    free(ball);
+
+    struct lucent_mesh *lens = mesh_alloc(sphere->vertex_count, sphere->triangle_count, 0);
+    if (!test_check(lens != NULL, "lens allocated")) {
+        lucent_mesh_free(sphere);
+        return;
+    }
+    memcpy(lens->positions, sphere->positions, (size_t)sphere->vertex_count * 3 * sizeof *lens->positions);
+    memcpy(lens->indices, sphere->indices, (size_t)sphere->triangle_count * 3 * sizeof *lens->indices);
+    for (uint32_t v = 0; v < lens->vertex_count; v++)
+        lens->positions[v * 3 + 2] *= 0.1f;
+    lucent_mesh_free(sphere);
+    if (!test_check(mesh_finish(lens, &err) == LUCENT_OK && !lens->convex, "lens finishes, not flagged convex")) {
+        lucent_mesh_free(lens);
+        return;
+    }
+    k = mesh_vertex_curvature(lens);
+    ball = mesh_vertex_curvature(lens);
+    double worst = 0.0, pole_share = 0.0, pole_z = 0.0;
+    uint32_t limited = 0;
+    if (k && ball && test_check(mesh_ball_curvature(lens, ball, &err) == LUCENT_OK, "lens: ball curvature")) {
+        for (uint32_t v = 0; v < lens->vertex_count; v++) {
+            double c = k[v], expect = c, start[3], dir[3];
+            if (c > 0.0) {
+                to_double(&lens->normals[v * 3], dir);
+                for (int a = 0; a < 3; a++)
+                    dir[a] = -dir[a] / length3(dir);
+                for (int a = 0; a < 3; a++)
+                    start[a] = lens->positions[v * 3 + a] + dir[a] * 1e-6 * lens->radius;
+                double t = brute_force_hit(lens, start, dir, 1.0 / c);
+                if (t < 1.0 / c)
+                    expect = c * fmin((t + 1e-6 * lens->radius) * c, 1.0);
+            }
+            worst = fmax(worst, fabs(ball[v] - expect) / fmax(fabs(c), 1e-30));
+            limited += ball[v] < 0.999f * k[v];
+            if (fabs(lens->positions[v * 3 + 2]) > pole_z)
+                pole_z = fabs(lens->positions[v * 3 + 2]), pole_share = ball[v] / k[v];
+        }
+    }
+    test_check(k && ball && worst < 1e-5 && limited > lens->vertex_count / 2 && pole_share < 0.1,
+               "lens: ball curvature as the rays against every triangle give (worst %.2g of c, tolerance 1e-5); "
+               "%u of %u vertices limited; at a pole %.4f of c (at most 0.1)", worst, limited, lens->vertex_count,
+               pole_share);
+    free(k);
+    free(ball);
+    lucent_mesh_free(lens);
+}
+
 int main(void)
 {
     static const char *names[] = {"sphere", "torus", "protrusion"};
@@ -495,5 +589,6 @@ int main(void)
     check_proxy("torus", 20000, 2000);
     check_sloppy_proxy();
     check_vertex_curvature();
+    check_ball_curvature();
     return test_finish();
 }

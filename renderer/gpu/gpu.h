@@ -58,7 +58,7 @@ lucent_status gpu_open(const char *backend, const char *device_name, int verbose
                        lucent_error *err);
 void gpu_close(struct gpu *gpu);
 lucent_status gpu_settle(struct gpu *gpu, lucent_error *err);
-/* Uploads a mesh's arrays (positions: 3 floats a vertex; shading: 4, the normal and mesh_vertex_curvature);
+/* Uploads a mesh's arrays (positions: 3 floats a vertex; shading: 4, the normal and mesh_ball_curvature);
  * *bytes: what they hold. */
 lucent_status gpu_geometry_upload(struct gpu *gpu, const float *positions, const float *shading, uint32_t vertex_count,
                                   const uint32_t *indices, uint32_t index_count, struct gpu_geometry **out,

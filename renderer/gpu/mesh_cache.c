@@ -2,6 +2,7 @@
  * edited file is reloaded; builtins are keyed by name and triangle count. */
 #include "mesh_cache.h"
 #include "clock_ms.h"
+#include "mesh_thickness.h"
 
 #include <meshoptimizer.h>
 #include <stdio.h>
@@ -33,27 +34,46 @@ static void geometry_destroy(struct gpu *gpu, struct cached_geometry *g)
     memset(g, 0, sizeof *g);
 }
 
-static lucent_status geometry_create(struct gpu *gpu, const struct lucent_mesh *m, struct cached_geometry *g,
-                                     lucent_error *err)
+/* Each vertex's normal and, in the geometry the camera's G-buffer draws, the curvature the sphere factor takes
+ * (the projection passes, which draw the proxies, do not read it): *out, 4 floats a vertex, malloc'd. */
+static lucent_status shading_stream(const struct lucent_mesh *m, int camera, float **out, lucent_error *err)
+{
+    lucent_status st = LUCENT_OK;
+    float *curvature = camera ? mesh_vertex_curvature(m) : NULL;
+    float *shading = malloc((size_t)m->vertex_count * 4 * sizeof *shading);
+    if (!shading || (camera && !curvature)) {
+        st = lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory preparing the mesh for the device");
+        goto fail;
+    }
+    if (camera && (st = mesh_ball_curvature(m, curvature, err)) != LUCENT_OK)
+        goto fail;
+    for (size_t v = 0; v < m->vertex_count; v++) {
+        memcpy(&shading[v * 4], &m->normals[v * 3], 3 * sizeof *shading);
+        shading[v * 4 + 3] = camera ? curvature[v] : 0.0f;
+    }
+    free(curvature);
+    *out = shading;
+    return LUCENT_OK;
+fail:
+    free(curvature);
+    free(shading);
+    return st;
+}
+
+static lucent_status geometry_create(struct gpu *gpu, const struct lucent_mesh *m, int camera,
+                                     struct cached_geometry *g, lucent_error *err)
 {
     size_t index_count = (size_t)m->triangle_count * 3;
     uint32_t *ordered = malloc(index_count * sizeof *ordered);
-    float *curvature = mesh_vertex_curvature(m), *shading = malloc((size_t)m->vertex_count * 4 * sizeof *shading);
-    if (!ordered || !curvature || !shading) {
-        free(ordered);
-        free(curvature);
-        free(shading);
-        return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory preparing the mesh for the device");
+    float *shading = NULL;
+    lucent_status st = ordered ? shading_stream(m, camera, &shading, err)
+                               : lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory preparing the mesh for the device");
+    if (st == LUCENT_OK) {
+        meshopt_optimizeVertexCache(ordered, m->indices, index_count, m->vertex_count);
+        st = gpu_geometry_upload(gpu, m->positions, shading, m->vertex_count, ordered, (uint32_t)index_count,
+                                 &g->gpu, &g->bytes, err);
     }
-    meshopt_optimizeVertexCache(ordered, m->indices, index_count, m->vertex_count);
-    for (size_t v = 0; v < m->vertex_count; v++) {
-        memcpy(&shading[v * 4], &m->normals[v * 3], 3 * sizeof *shading);
-        shading[v * 4 + 3] = curvature[v];
-    }
-    lucent_status st = gpu_geometry_upload(gpu, m->positions, shading, m->vertex_count, ordered,
-                                           (uint32_t)index_count, &g->gpu, &g->bytes, err);
     free(ordered);
-    free(curvature);
     free(shading);
     if (st != LUCENT_OK) {
         memset(g, 0, sizeof *g);
@@ -99,7 +119,7 @@ static lucent_status ensure_proxy(struct gpu *gpu, const struct lucent_mesh *mes
     struct lucent_mesh *proxy = mesh_simplify(mesh, target);
     if (!proxy)
         return lucent_fail(err, LUCENT_E_NOMEM, "", "out of memory simplifying the mesh");
-    lucent_status st = geometry_create(gpu, proxy, &p->geometry, err);
+    lucent_status st = geometry_create(gpu, proxy, 0, &p->geometry, err);
     if (st == LUCENT_OK) {
         p->target = target;
         p->triangles = proxy->triangle_count;
@@ -155,7 +175,7 @@ static lucent_status trim(struct gpu *gpu, struct mesh_cache *cache, struct gpu_
 lucent_status mesh_cache_upload(struct gpu *gpu, struct mesh_cache *cache, struct gpu_mesh *s,
                                 int projection_size, int side_size, lucent_error *err)
 {
-    lucent_status st = s->full.gpu ? LUCENT_OK : geometry_create(gpu, s->mesh, &s->full, err);
+    lucent_status st = s->full.gpu ? LUCENT_OK : geometry_create(gpu, s->mesh, 1, &s->full, err);
     if (st == LUCENT_OK)
         st = ensure_proxy(gpu, s->mesh, &s->proxies[PROXY_FRONT], projection_size, err);
     if (st == LUCENT_OK)
