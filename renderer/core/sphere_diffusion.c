@@ -195,6 +195,11 @@ lucent_status sphere_tables_for(struct sphere_tables *t, const struct profile p[
     return LUCENT_OK;
 }
 
+double sphere_factor_curvature(double curvature, double thickness)
+{
+    return curvature * fmin(fmax(thickness * curvature, 0.0), 1.0);
+}
+
 double sphere_factor(const struct sphere_table *t, const double d[3], const double n_out[3], const double n_in[3],
                      double curvature_mm)
 {

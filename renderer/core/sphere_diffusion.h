@@ -42,5 +42,9 @@ lucent_status sphere_tables_for(struct sphere_tables *t, const struct profile p[
  * convex surface. */
 double sphere_factor(const struct sphere_table *t, const double d[3], const double n_out[3], const double n_in[3],
                      double curvature_mm);
+/* The curvature sphere_factor takes where the surface curves by `curvature` over a part `thickness` thick (any
+ * length unit and its inverse; INFINITY where the ray inward leaves the mesh): curvature x min(thickness x
+ * curvature, 1), 0 where flat or concave. A part thinner than its radius of curvature is a slab, not a ball. */
+double sphere_factor_curvature(double curvature, double thickness);
 
 #endif

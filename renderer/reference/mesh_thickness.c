@@ -5,6 +5,7 @@
 #include "bvh.h"
 #include "linalg.h"
 #include "parallel.h"
+#include "sphere_diffusion.h"
 
 #include <math.h>
 
@@ -36,7 +37,7 @@ static void limit_vertices(void *arg, size_t begin, size_t end)
         /* Only a part thinner than the radius of curvature limits it: the ray need not go further. */
         struct bvh_hit hit;
         if (bvh_closest(r->bvh, start, inward, 1.0 / c, &hit))
-            r->curvature[v] = (float)(c * fmin((hit.t + depth) * c, 1.0));
+            r->curvature[v] = (float)sphere_factor_curvature(c, hit.t + depth);
     }
 }
 

@@ -452,9 +452,8 @@ static double thickness_mm(const struct context *ctx, const struct visible_point
 static struct exit_point exit_point_at(const struct context *ctx, const struct visible_point *v)
 {
     double curvature = v->curvature / ctx->scale_mm, thickness = thickness_mm(ctx, v);
-    double ball = fmin(fmax(thickness * curvature, 0.0), 1.0);
     double slab = isfinite(thickness) ? fmin(fmax(1.0 - 0.5 * thickness * curvature, 0.0), 1.0) : 0.0;
-    return (struct exit_point){v->p, v->n, curvature, thickness, slab, curvature * ball};
+    return (struct exit_point){v->p, v->n, curvature, thickness, slab, sphere_factor_curvature(curvature, thickness)};
 }
 
 static void shade_pixel(struct context *ctx, int x, int y)
