@@ -242,13 +242,17 @@ typedef struct lucent_error_measures {
  * noise = ||hp(test) - hp(ref)|| / ||ref|| with hp(x) = x - box3x3(x): speckle; low_frequency_rel_l2
  * = ||box5x5(test) - box5x5(ref)|| / ||box5x5(ref)||: what survives a small blur (missing light,
  * seams). mean_ratio = summed RGB of test / of ref over every pixel covered in both (the energy;
- * 0 where the reference is black). */
+ * 0 where the reference is black). mottle = ||bp(test) - bp(ref)|| / ||ref|| with bp(x) = box3x3(x) -
+ * box25x25(x), over the pixels whose 25x25 neighbourhood is covered in both (NaN where none is): blotches up
+ * to about 12 pixels across, three far blocks, which noise's 3x3 high-pass hardly sees. */
 typedef struct lucent_image_error {
     lucent_error_measures object;   /* every pixel covered in both images */
     lucent_error_measures band;     /* the silhouette band */
     int coverage_mismatch;          /* pixels covered in one image only */
     int interior_pixels;            /* the pixels noise and low_frequency_rel_l2 are taken over */
     double noise, low_frequency_rel_l2, mean_ratio;
+    int mottle_pixels;              /* the pixels mottle is taken over */
+    double mottle;
 } lucent_image_error;
 
 lucent_status lucent_image_compare(const lucent_image *test, const lucent_image *ref, lucent_image_error *out,

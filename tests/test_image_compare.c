@@ -1,7 +1,8 @@
 /* test_image_compare.c - the error measures on images whose error is known by construction: equal
  * images, a uniform 20% gain, an error confined to the silhouette band, coverage differences; and the
  * frequency split (noise, low frequencies, mean ratio) on a smooth quadratic image, whose box means
- * are known in closed form, perturbed by a gain, a checkerboard and a linear ramp; and the error against
+ * are known in closed form, perturbed by a gain, a checkerboard and a linear ramp; mottle (the 3x3 to 25x25
+ * band) against box means summed pixel by pixel, on fine and coarse checkerboards; and the error against
  * a truth seen only through two noisy estimates of it, with the spread of that estimate checked over
  * many draws of the noise. */
 #include "json_text.h"
@@ -207,6 +208,100 @@ static void check_frequencies(void)
                "radiance 100 behind uncovered pixels, centre uncovered and (1,1) covered in the test only: %d "
                "interior pixels (expected %d), noise %g, low-frequency %g (expected 0), mean ratio %g (expected 1)",
                e.interior_pixels, INTERIOR - 25, e.noise, e.low_frequency_rel_l2, e.mean_ratio);
+    lucent_image_free(&test);
+    lucent_image_free(&ref);
+}
+
+/* Mottle's image: M x M, covered, channel c = A[c]; MOTTLE_R is the 25x25 box's half-width. */
+#define M 64
+#define MOTTLE_R 12
+#define MOTTLE_INTERIOR ((M - 2 * MOTTLE_R) * (M - 2 * MOTTLE_R))
+
+static void make_flat(lucent_image *img, double (*amount)(int x, int y))
+{
+    lucent_error err = {0};
+    if (lucent_image_alloc(img, M, M, 0, &err) != LUCENT_OK) {
+        printf("FAIL alloc: %s\n", err.message);
+        exit(1);
+    }
+    for (int i = 0; i < M * M; i++) {
+        for (int c = 0; c < 3; c++)
+            img->rgba[i * 4 + c] = (float)(A[c] + (amount ? amount(i % M, i / M) : 0.0));
+        img->rgba[i * 4 + 3] = 1.0f;
+    }
+}
+
+/* Blotches: cells of 6 x 6 pixels, +-CHECKER. */
+static double blotches(int x, int y)
+{
+    return (x / 6 + y / 6) % 2 ? -CHECKER : CHECKER;
+}
+
+/* What mottle should be for test = ref + amount: box means summed pixel by pixel (the ref's band is 0). */
+static double mottle_by_sums(double (*amount)(int x, int y))
+{
+    double diff2 = 0.0, ref2 = 0.0;
+    for (int y = MOTTLE_R; y < M - MOTTLE_R; y++)
+        for (int x = MOTTLE_R; x < M - MOTTLE_R; x++) {
+            double small = 0.0, large = 0.0;
+            for (int v = -MOTTLE_R; v <= MOTTLE_R; v++)
+                for (int u = -MOTTLE_R; u <= MOTTLE_R; u++) {
+                    large += amount(x + u, y + v);
+                    small += abs(u) <= 1 && abs(v) <= 1 ? amount(x + u, y + v) : 0.0;
+                }
+            double band = small / 9.0 - large / ((2 * MOTTLE_R + 1) * (2 * MOTTLE_R + 1));
+            for (int c = 0; c < 3; c++) {
+                diff2 += band * band;
+                ref2 += A[c] * A[c];
+            }
+        }
+    return sqrt(diff2 / ref2);
+}
+
+static void check_mottle(void)
+{
+    lucent_image ref, test;
+    lucent_image_error e;
+    lucent_error err = {0};
+    make_flat(&ref, NULL);
+    make_flat(&test, NULL);
+    lucent_image_compare(&test, &ref, &e, &err);
+    test_check(e.mottle_pixels == MOTTLE_INTERIOR && e.mottle == 0.0,
+               "mottle, identical: %d pixels (expected %d), mottle %g (expected 0)", e.mottle_pixels, MOTTLE_INTERIOR,
+               e.mottle);
+
+    /* A pixel checkerboard is speckle: its 3x3 mean is 1/9 of it, its 25x25 one 1/625. */
+    lucent_image_free(&test);
+    make_flat(&test, checker);
+    lucent_image_compare(&test, &ref, &e, &err);
+    double want = mottle_by_sums(checker), speckle_mottle = e.mottle, speckle_noise = e.noise;
+    test_check(near(e.mottle, want, 1e-6) && e.mottle < 0.15 * e.noise,
+               "mottle of a pixel checkerboard +-%g: %.6g (summed %.6g, +-1e-6 rel), below 0.15 of its noise %.4g",
+               CHECKER, e.mottle, want, e.noise);
+
+    /* Blotches 6 pixels wide, as strong: mottle sees them, noise's 3x3 high-pass only along their edges. */
+    lucent_image_free(&test);
+    make_flat(&test, blotches);
+    lucent_image_compare(&test, &ref, &e, &err);
+    want = mottle_by_sums(blotches);
+    test_check(near(e.mottle, want, 1e-6) && e.mottle > 5.0 * speckle_mottle && e.noise < speckle_noise,
+               "mottle of 6-pixel blotches +-%g: %.6g (summed %.6g, +-1e-6 rel), over 5x the checkerboard's; their "
+               "noise %.4g below its %.4g",
+               CHECKER, e.mottle, want, e.noise, speckle_noise);
+
+    /* Both boxes keep a linear ramp; an uncovered pixel takes its 25x25 neighbourhood out, and the radiance
+     * behind it leaks into no box. */
+    lucent_image_free(&test);
+    make_flat(&test, ramp);
+    size_t centre = (size_t)(M / 2) * M + M / 2;
+    test.rgba[centre * 4 + 3] = 0.0f;
+    test.rgba[centre * 4] = 100.0f;
+    lucent_image_compare(&test, &ref, &e, &err);
+    int left = MOTTLE_INTERIOR - (2 * MOTTLE_R + 1) * (2 * MOTTLE_R + 1);
+    test_check(e.mottle_pixels == left && e.mottle < 1e-6,
+               "mottle of a ramp with its centre uncovered (radiance 100 behind it): %d pixels (expected %d), "
+               "mottle %.3g (< 1e-6)",
+               e.mottle_pixels, left, e.mottle);
     lucent_image_free(&test);
     lucent_image_free(&ref);
 }
@@ -460,9 +555,11 @@ int main(void)
     char json[1024];
     test_check(lucent_image_error_json(&e, json, sizeof json) > 0 && json[0] == '{' && strstr(json, "\"noise\":") &&
                    strstr(json, "\"low_frequency_rel_l2\":") && strstr(json, "\"mean_ratio\":") &&
-                   strstr(json, "\"interior_pixels\":") && strstr(json, "\"rel_l2\":"),
-               "JSON has the old and the new keys: %s", json);
+                   strstr(json, "\"interior_pixels\":") && strstr(json, "\"rel_l2\":") &&
+                   strstr(json, "\"mottle\":null") && strstr(json, "\"mottle_pixels\":0"),
+               "JSON has the old and the new keys (mottle null: no pixel has 25x25 covered neighbours): %s", json);
     check_frequencies();
+    check_mottle();
     check_noisy_truth();
 
     /* A black reference makes the per-pixel relative measures 0/0: JSON has no NaN, so they print as null. */

@@ -90,7 +90,7 @@ static void check_compare(const lucent_image *test, const lucent_image *ref)
         abort();
     int pixels = ref->width * ref->height;
     if (e.object.pixels > pixels || e.band.pixels > e.object.pixels || e.interior_pixels > e.object.pixels ||
-        e.coverage_mismatch > pixels)
+        e.mottle_pixels > e.interior_pixels || e.coverage_mismatch > pixels)
         abort();
     if (lucent_image_error_json(&e, buf, sizeof buf) <= 0)
         abort();
