@@ -11,8 +11,8 @@
 # differences are |test - reference| under that exposure times --gain (4), shown linear (white = an
 # error of 1/gain of the white point). --diff signed shows instead the luminance of test - reference:
 # blue = too dark, red = too bright, black = equal, full colour at 1/gain of the white point. Prints
-# each scene's --compare relative L2 (whole object and silhouette band; issue 10's "noise" where
-# --compare reports it) and mean ratio of before and after against the reference, and writes them to
+# each scene's --compare relative L2 (whole object and silhouette band; issue 10's "noise" and "mottle" where
+# --compare reports them) and mean ratio of before and after against the reference, and writes them to
 # OUT/summary.md. Needs oiiotool (openimageio-tools); labels need a TrueType font (fonts-dejavu-core).
 # Not a test: it judges nothing, it makes the pictures to look at.
 set -euo pipefail
@@ -232,8 +232,8 @@ summary=$out/summary.md
     echo "- before: $before"
     echo "- after: $after"
     echo
-    echo "| scene | rel L2 before | rel L2 after | band rel L2 before | band rel L2 after | noise before | noise after | mean ratio before | mean ratio after | sheet |"
-    echo "|---|---|---|---|---|---|---|---|---|---|"
+    echo "| scene | rel L2 before | rel L2 after | band rel L2 before | band rel L2 after | noise before | noise after | mottle before | mottle after | mean ratio before | mean ratio after | sheet |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 } > "$summary"
 
 for s in "${scenes[@]}"; do
@@ -314,6 +314,7 @@ for s in "${scenes[@]}"; do
     bb=$(band_field "$d/before.exr.out" rel_l2) ba=$(band_field "$d/after.exr.out" rel_l2)
     # "noise" (issue 10's high-pass error), where this lucent-render's --compare reports it
     nb=$(json_field "$d/before.exr.out" noise) na=$(json_field "$d/after.exr.out" noise)
+    ob=$(json_field "$d/before.exr.out" mottle) oa=$(json_field "$d/after.exr.out" mottle)
     mref=$(mean_rgb "$d/ref.rgba.exr")
     mb=$(awk -v t="$(mean_rgb "$d/before.rgba.exr")" -v r="$mref" 'BEGIN { printf "%.4f", (r > 0 ? t / r : 0) }')
     ma=$(awk -v t="$(mean_rgb "$d/after.rgba.exr")" -v r="$mref" 'BEGIN { printf "%.4f", (r > 0 ? t / r : 0) }')
@@ -330,10 +331,10 @@ for s in "${scenes[@]}"; do
     fi
     if ((keep_exr)); then for v in ref before after; do cp "$d/$v.exr" "$out/exr/${s}_$v.exr"; done; fi
 
-    printf '%s: rel L2 before %s after %s; band rel L2 before %s after %s; noise before %s after %s; mean ratio before %s after %s -> %s\n' \
-        "$s" "${rb:-?}" "${ra:-?}" "${bb:-?}" "${ba:-?}" "${nb:--}" "${na:--}" "$mb" "$ma" "$out/$s.png"
-    printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s | [%s.png](%s.png) |\n' "$s" "${rb:-?}" "${ra:-?}" "${bb:-?}" "${ba:-?}" \
-        "${nb:--}" "${na:--}" "$mb" "$ma" "$s" "$s" >> "$summary"
+    printf '%s: rel L2 before %s after %s; band rel L2 before %s after %s; noise before %s after %s; mottle before %s after %s; mean ratio before %s after %s -> %s\n' \
+        "$s" "${rb:-?}" "${ra:-?}" "${bb:-?}" "${ba:-?}" "${nb:--}" "${na:--}" "${ob:--}" "${oa:--}" "$mb" "$ma" "$out/$s.png"
+    printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | [%s.png](%s.png) |\n' "$s" "${rb:-?}" "${ra:-?}" "${bb:-?}" \
+        "${ba:-?}" "${nb:--}" "${na:--}" "${ob:--}" "${oa:--}" "$mb" "$ma" "$s" "$s" >> "$summary"
 done
 
 # shellcheck disable=SC2059
@@ -342,7 +343,7 @@ done
     echo "Each sheet: reference | before | after | $(printf "$dl" before) | $(printf "$dl" after), one exposure"
     echo "(reference's 99th percentile = white unless --exposure); renders sRGB-encoded over a dim background,"
     echo "differences linear; second row: the region boxed in the reference, 3x, nearest-neighbour."
-    echo "rel L2, band (silhouette) rel L2 and noise are lucent-render --compare's (noise: - where it does not"
-    echo "report it); mean ratio is the sum of R+G+B over the image, test over reference (background is 0)."
+    echo "rel L2, band (silhouette) rel L2, noise and mottle are lucent-render --compare's (noise, mottle: - where"
+    echo "it does not report them); mean ratio is the sum of R+G+B over the image, test over reference (background is 0)."
 } >> "$summary"
 echo "summary: $summary" >&2
