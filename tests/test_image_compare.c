@@ -18,14 +18,19 @@
 #define W 40
 #define H 30
 
-/* A W x H image with AOVs, zeroed; the run ends here if it cannot be made, since no check could run. */
-static void alloc_image(lucent_image *img)
+/* A width x height image with AOVs, zeroed; the run ends here if it cannot be made, since no check could run. */
+static void alloc_sized(lucent_image *img, int width, int height)
 {
     lucent_error err = {0};
-    if (lucent_image_alloc(img, W, H, 1, &err) != LUCENT_OK) {
+    if (lucent_image_alloc(img, width, height, 1, &err) != LUCENT_OK) {
         printf("FAIL alloc: %s\n", err.message);
         exit(1);
     }
+}
+
+static void alloc_image(lucent_image *img)
+{
+    alloc_sized(img, W, H);
 }
 
 /* A covered disc of radiance (1, 0.5, 0.25); facing falls to 0 at the rim, so the outer ring is
@@ -219,11 +224,7 @@ static void check_frequencies(void)
 
 static void make_flat(lucent_image *img, double (*amount)(int x, int y))
 {
-    lucent_error err = {0};
-    if (lucent_image_alloc(img, M, M, 0, &err) != LUCENT_OK) {
-        printf("FAIL alloc: %s\n", err.message);
-        exit(1);
-    }
+    alloc_sized(img, M, M);
     for (int i = 0; i < M * M; i++) {
         for (int c = 0; c < 3; c++)
             img->rgba[i * 4 + c] = (float)(A[c] + (amount ? amount(i % M, i / M) : 0.0));
