@@ -140,12 +140,13 @@ static void compare_frequencies(const lucent_image *test, const lucent_image *re
 }
 
 /* Mottle: the band between a 3x3 and a 25x25 box, blotches up to three far blocks of 4 pixels across, which
- * the 3x3 high-pass of noise hardly sees. Box means come from one summed-area table per image and channel. */
+ * the 3x3 high-pass of noise hardly sees. The band is linear, so it is taken of test - ref at once; its box
+ * means come from one summed-area table per channel. */
 #define MOTTLE_RADIUS 12
-enum { SAT_TEST = 0, SAT_REF = 3, SAT_COVERED = 6, SAT_VALUES = 7 };
+enum { SAT_COVERED = 3, SAT_VALUES = 4 };
 
-/* (w + 1) x (h + 1) entries of SAT_VALUES sums over [0, x) x [0, y): test RGB, reference RGB, pixels
- * covered in both; NULL when out of memory. */
+/* (w + 1) x (h + 1) entries of SAT_VALUES sums over [0, x) x [0, y): test - ref in R, G, B, and pixels covered
+ * in both; NULL when out of memory. */
 static double *summed_areas(const lucent_image *test, const lucent_image *ref)
 {
     size_t row = (size_t)ref->width + 1;
@@ -156,8 +157,9 @@ static double *summed_areas(const lucent_image *test, const lucent_image *ref)
         for (int x = 0; x < ref->width; x++) {
             size_t i = (size_t)y * ref->width + x;
             double *at = &t[((y + 1) * row + x + 1) * SAT_VALUES], *up = at - row * SAT_VALUES;
-            double value[SAT_VALUES] = {test->rgba[i * 4], test->rgba[i * 4 + 1], test->rgba[i * 4 + 2],
-                                        ref->rgba[i * 4], ref->rgba[i * 4 + 1], ref->rgba[i * 4 + 2],
+            double value[SAT_VALUES] = {(double)test->rgba[i * 4] - ref->rgba[i * 4],
+                                        (double)test->rgba[i * 4 + 1] - ref->rgba[i * 4 + 1],
+                                        (double)test->rgba[i * 4 + 2] - ref->rgba[i * 4 + 2],
                                         covered(test, i) && covered(ref, i)};
             for (int k = 0; k < SAT_VALUES; k++)
                 at[k] = value[k] + up[k] + at[k - SAT_VALUES] - up[k - SAT_VALUES];
@@ -175,8 +177,8 @@ static double sat_mean(const double *t, int width, int k, int x, int y, int r)
     return sum / ((2 * r + 1) * (2 * r + 1));
 }
 
-/* ||bp(test) - bp(ref)|| / ||ref||, bp(x) = box3x3(x) - box25x25(x), over the pixels whose 25x25 neighbourhood
- * is covered in both images; NaN where none is. */
+/* ||bp(test - ref)|| / ||ref||, bp(x) = box3x3(x) - box25x25(x), over the pixels whose 25x25 neighbourhood is
+ * covered in both images; NaN where none is. */
 static lucent_status compare_mottle(const lucent_image *test, const lucent_image *ref, lucent_image_error *out,
                                     lucent_error *err)
 {
@@ -191,9 +193,8 @@ static lucent_status compare_mottle(const lucent_image *test, const lucent_image
                 continue;
             size_t i = ((size_t)y * w + x) * 4;
             for (int c = 0; c < 3; c++) {
-                double band_test = sat_mean(t, w, SAT_TEST + c, x, y, 1) - sat_mean(t, w, SAT_TEST + c, x, y, r);
-                double band_ref = sat_mean(t, w, SAT_REF + c, x, y, 1) - sat_mean(t, w, SAT_REF + c, x, y, r);
-                diff2 += (band_test - band_ref) * (band_test - band_ref);
+                double band = sat_mean(t, w, c, x, y, 1) - sat_mean(t, w, c, x, y, r);
+                diff2 += band * band;
                 ref2 += (double)ref->rgba[i + c] * ref->rgba[i + c];
             }
             out->mottle_pixels++;
