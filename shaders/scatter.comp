@@ -173,11 +173,11 @@ float source_term(float a, float c, float s, float h, float d)
 
 // Channel c's two sources placed for light entering with normal n_in at d (mm) from the exit point of
 // normal n_out (d = exit - entry): the real one's depth and the virtual one's height under the exit's
-// tangent plane, as held (C: profile_rd_between, where the reasons are), and their coefficients.
+// tangent plane, as held, their distances and their images' (C: place_sources, where the reasons are),
+// and their coefficients.
 struct Sources {
-    vec3 real, virt;          // exit point minus each source
     float h0, h1, zb, w;      // depth, height, extrapolation distance, weight of the exit's images
-    float shallow;            // how far a convex edge's hold applies, 0..1
+    float d0, d1, e0, e1;     // distances from the exit point: the sources, their images
     float a0, a1, c0, c1, s0, s1;
 };
 
@@ -185,14 +185,19 @@ Sources place_sources(int c, vec3 d, vec3 n_out, vec3 n_in)
 {
     Sources q;
     float z0 = frame.profile_z[0][c], z1 = frame.profile_z[1][c], tilt = dot(n_in, n_out);
-    q.real = d + z0 * n_in;
-    q.virt = d - z1 * n_in;
-    float depth = dot(q.real, n_out);
+    vec3 real = d + z0 * n_in, virt = d - z1 * n_in;
+    float depth = dot(real, n_out);
     q.zb = 0.5 * (z1 - z0);
     q.h0 = max(depth, z0);
-    q.h1 = min(-dot(q.virt, n_out), q.h0 + 2.0 * q.zb);
+    q.h1 = min(-dot(virt, n_out), q.h0 + 2.0 * q.zb);
     q.w = 0.5 * (1.0 - tilt);
-    q.shallow = clamp((z0 - depth) / z0, 0.0, 1.0) * clamp(1.0 + tilt, 0.0, 1.0);
+    float shallow = clamp((z0 - depth) / z0, 0.0, 1.0) * clamp(1.0 + tilt, 0.0, 1.0);
+    q.d0 = max(max(max(length(real), 1e-12), q.h0), shallow * sqrt(dot(d, d) + z0 * z0));
+    q.d1 = max(max(length(virt), sqrt(dot(d, d) + z1 * z1)), abs(q.h1));
+    float across0 = q.d0 * q.d0 - q.h0 * q.h0, across1 = max(q.d1 * q.d1 - q.h1 * q.h1, 0.0);
+    float i0 = q.h0 + 2.0 * q.zb, i1 = q.h1 - 2.0 * q.zb;
+    q.e0 = max(sqrt(across0 + i0 * i0), 1e-12);
+    q.e1 = max(sqrt(across1 + i1 * i1), z0);
     q.a0 = frame.profile_a[0][c];
     q.a1 = frame.profile_a[1][c];
     q.c0 = frame.profile_b[0][c] / z0;
@@ -246,13 +251,9 @@ float profile_rd_between(int c, vec3 d, vec3 n_out, vec3 n_in)
     if (z0 <= 0.0 || !(length(d) < FAR_MM))
         return profile_rd(c, length(d));
     Sources q = place_sources(c, d, n_out, n_in);
-    float d0 = max(max(max(length(q.real), 1e-12), q.h0), q.shallow * sqrt(dot(d, d) + z0 * z0));
-    float d1 = max(max(length(q.virt), sqrt(dot(d, d) + z1 * z1)), abs(q.h1));
-    float across0 = d0 * d0 - q.h0 * q.h0, across1 = max(d1 * d1 - q.h1 * q.h1, 0.0);
-    float sum = source_term(q.a0, q.c0, q.s0, q.h0, d0) + source_term(q.a1, q.c1, q.s1, q.h1, d1);
-    float i0 = q.h0 + 2.0 * q.zb, i1 = q.h1 - 2.0 * q.zb;   // the exit's images
-    sum += q.w * (source_term(-q.a0, q.c0, q.s0, i0, max(sqrt(across0 + i0 * i0), 1e-12)) +
-                  source_term(-q.a1, q.c1, q.s1, i1, max(sqrt(across1 + i1 * i1), z0)));
+    float sum = source_term(q.a0, q.c0, q.s0, q.h0, q.d0) + source_term(q.a1, q.c1, q.s1, q.h1, q.d1);
+    sum += q.w * (source_term(-q.a0, q.c0, q.s0, q.h0 + 2.0 * q.zb, q.e0) +
+                  source_term(-q.a1, q.c1, q.s1, q.h1 - 2.0 * q.zb, q.e1));
     return max(sum, 0.0) * sphere_factor(c, d, n_out, n_in);
 }
 
@@ -313,9 +314,19 @@ float source_disc(float a, float c, float s, float h, float radius, float neares
                        c * h * falloff_difference(s, inner, outer, delta));
 }
 
+// How near a disc's light lies for source_disc: the disc, its centre `distance` (mm) from the exit point and
+// `depth` under its tangent plane, taken as the annulus around the exit's normal of its area that ends at its
+// centre's distance (C: disc_nearest).
+float disc_nearest(float distance, float depth, float radius)
+{
+    return sqrt(max(distance * distance - radius * radius, depth * depth));
+}
+
 // profile_rd_between integrated over a disc of radius `radius` (mm) on the entry's surface, its centre at
-// d (mm, exit - centre) from the exit point and taken to lie on the exit's normal (a face across an edge
-// or the far side of a thin part, seen in the view p lands in).
+// d (mm, exit - centre) from the exit point (a face across an edge or the far side of a thin part, seen in
+// the view p lands in; C: profile_disc_between). Each source and image counts the disc at its own distance:
+// taken under the exit point, a face beside p facing as p does lit p as if it lay beneath it (bluish spots
+// on a side-lit bunny's shaded chest, lit by its flank 19 mm away).
 vec3 rd_disc_between(float radius, vec3 d, vec3 n_out, vec3 n_in)
 {
     radius = min(radius, FAR_MM);
@@ -327,10 +338,11 @@ vec3 rd_disc_between(float radius, vec3 d, vec3 n_out, vec3 n_in)
             continue;
         }
         Sources q = place_sources(c, d, n_out, n_in);
-        sum[c] = source_disc(q.a0, q.c0, q.s0, q.h0, radius, max(q.shallow * sqrt(dot(d, d) + z0 * z0), 1e-12)) +
-                 source_disc(q.a1, q.c1, q.s1, q.h1, radius, z1) +
-                 q.w * (source_disc(-q.a0, q.c0, q.s0, q.h0 + 2.0 * q.zb, radius, 1e-12) +
-                        source_disc(-q.a1, q.c1, q.s1, q.h1 - 2.0 * q.zb, radius, z0));
+        float i0 = q.h0 + 2.0 * q.zb, i1 = q.h1 - 2.0 * q.zb;
+        sum[c] = source_disc(q.a0, q.c0, q.s0, q.h0, radius, disc_nearest(q.d0, q.h0, radius)) +
+                 source_disc(q.a1, q.c1, q.s1, q.h1, radius, disc_nearest(q.d1, q.h1, radius)) +
+                 q.w * (source_disc(-q.a0, q.c0, q.s0, i0, radius, disc_nearest(q.e0, i0, radius)) +
+                        source_disc(-q.a1, q.c1, q.s1, i1, radius, disc_nearest(q.e1, i1, radius)));
         sum[c] *= sphere_factor(c, d, n_out, n_in);
     }
     return max(sum, vec3(0.0));

@@ -80,15 +80,17 @@ static const struct scored_case cases[] = {
      {{0.2196, 0.1441, 2.288, 0.79, 0.2009, 0.9802, 0},
       {0.07705, 0.07274, 0.9897, 0.58, 0.05854, 0.9969, 0},
       {0.05904, 0.05711, 0.949, 0.54, 0.03817, 0.9991, 0}}, 0},
-    /* larger images integrate the far part once per block of 2x2 (256^2) and 4x4 (512^2) pixels */
+    /* larger images integrate the far part once per block of 2x2 (256^2) and 4x4 (512^2) pixels and have a near
+     * disc; re-measured with the disc beside the exit point counted at its distance (the bunny's p99 1.13 -> 0.50:
+     * the bluish spots on its shaded chest; the cube 0.063 -> 0.057) */
     {BUNNY, "bunny", DIR("[-1,0,0]"), "marble", 256,
      {{0.1014, 0.1741, 0.8615, 0.55, 0.0208, 0.9406, 0.02},
-      {0.06029, 0.06715, 1.127, 0.41, 0.01631, 0.9691, 0.01752},
-      {0.06162, 0.06728, 1.191, 0.41, 0.01629, 0.9657, 0.01754}}, 1},
+      {0.06004, 0.06737, 0.5038, 0.38, 0.0163, 0.9642, 0.01665},
+      {0.06146, 0.06755, 0.6245, 0.41, 0.01627, 0.9608, 0.01662}}, 1},
     {CUBE, "cube", DIR("[-1,0,0]"), "marble", 256,
      {{0.07841, 0.05462, 1, 0.63, 0.02628, 1.0235, 0.06079},
-      {0.06294, 0.05529, 0.7408, 0.30, 0.02138, 1.0123, 0.04155},
-      {0.06291, 0.05512, 0.4319, 0.32, 0.02145, 1.0093, 0.04198}}, 0},
+      {0.05703, 0.05396, 0.7408, 0.26, 0.02086, 1.0050, 0.03569},
+      {0.05701, 0.05376, 0.4312, 0.28, 0.02092, 1.0021, 0.03598}}, 0},
     /* lit from behind: single sees none of it (black, rel L2 1); five gathers it through the object
      * from a light view. Blocks of one pixel here: the far filter is off, hence the sphere's noise. */
     {BUILTIN, "sphere", DIR("[0,0,1]"), "marble", 128,
@@ -132,8 +134,8 @@ static const struct scored_case cases[] = {
       {0.01187, 0.01332, 0.6431, 0.30, 0.002368, 0.9984, 0.004658}}, 1},
     {BUNNY, "bunny", DIR("[-1,0,0]"), "marble", 512,
      {{0.1017, 0.1722, 0.8664, 0.55, 0.01747, 0.9392, 0.01957},
-      {0.06078, 0.06635, 1.113, 0.41, 0.01309, 0.9681, 0.0167},
-      {0.06234, 0.06689, 1.157, 0.41, 0.01309, 0.9651, 0.01662}}, 1},
+      {0.06062, 0.06654, 0.5151, 0.39, 0.01309, 0.9634, 0.01651},
+      {0.06224, 0.06712, 0.6098, 0.40, 0.01308, 0.9604, 0.0164}}, 1},
 };
 
 static int within(const char *name, double got, double bound, char *buf, size_t cap)

@@ -28,6 +28,15 @@ double profile_rd(const struct profile *p, double r);        /* R(r), mm^-2; fin
  * slab transmittance with its first two pairs. Equal to profile_rd(|d|) where both lie on one plane;
  * normalized diffusion, which has no sources, is always profile_rd(|d|). Never negative. */
 double profile_rd_between(const struct profile *p, const double d[3], const double n_out[3], const double n_in[3]);
+/* profile_rd_between integrated over a disc of radius `radius` (mm) on the entry's surface, its centre at d
+ * (exit - centre; the scatter pass's near disc across an edge or through a thin part). Per source and image,
+ * the disc is taken as the annulus around the exit's normal of the disc's area that ends at the disc centre's
+ * distance: exact for a disc centred under the exit point; for one two radii or more beside it on the exit's
+ * plane or a slab's far face, within 11% of the integral (or 1.2% of the light of the disc under it); about 2x
+ * for one just touching the exit's normal (tests/test_profiles.c). A face meeting the exit's at an edge is
+ * rougher: 0.6-0.9x two radii or more beyond the edge, anything from 0 to 6x where the disc reaches it. */
+double profile_disc_between(const struct profile *p, double radius, const double d[3], const double n_out[3],
+                            const double n_in[3]);
 /* A thin part (an ear, a slab's face) loses through its back face light that a half space would send back
  * out: the share of R(r) that is left on the lit face of a slab `thickness` mm thick, by Donner and Jensen
  * 2005's multipole reflectance (0..1; the pairs run to 4 or twice r in periods 2 (thickness + 2 z_b), at most
