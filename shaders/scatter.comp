@@ -176,7 +176,7 @@ float source_term(float a, float c, float s, float h, float d)
 // tangent plane, as held, their distances and their images' (C: place_sources, where the reasons are),
 // and their coefficients.
 struct Sources {
-    float h0, h1, zb, w;      // depth, height, extrapolation distance, weight of the exit's images
+    float h0, h1, i0, i1, w;  // depth, height, their images' depths, weight of the exit's images
     float d0, d1, e0, e1;     // distances from the exit point: the sources, their images
     float a0, a1, c0, c1, s0, s1;
 };
@@ -187,17 +187,18 @@ Sources place_sources(int c, vec3 d, vec3 n_out, vec3 n_in)
     float z0 = frame.profile_z[0][c], z1 = frame.profile_z[1][c], tilt = dot(n_in, n_out);
     vec3 real = d + z0 * n_in, virt = d - z1 * n_in;
     float depth = dot(real, n_out);
-    q.zb = 0.5 * (z1 - z0);
+    float zb = 0.5 * (z1 - z0);
     q.h0 = max(depth, z0);
-    q.h1 = min(-dot(virt, n_out), q.h0 + 2.0 * q.zb);
+    q.h1 = min(-dot(virt, n_out), q.h0 + 2.0 * zb);
     q.w = 0.5 * (1.0 - tilt);
     float shallow = clamp((z0 - depth) / z0, 0.0, 1.0) * clamp(1.0 + tilt, 0.0, 1.0);
     q.d0 = max(max(max(length(real), 1e-12), q.h0), shallow * sqrt(dot(d, d) + z0 * z0));
     q.d1 = max(max(length(virt), sqrt(dot(d, d) + z1 * z1)), abs(q.h1));
     float across0 = q.d0 * q.d0 - q.h0 * q.h0, across1 = max(q.d1 * q.d1 - q.h1 * q.h1, 0.0);
-    float i0 = q.h0 + 2.0 * q.zb, i1 = q.h1 - 2.0 * q.zb;
-    q.e0 = max(sqrt(across0 + i0 * i0), 1e-12);
-    q.e1 = max(sqrt(across1 + i1 * i1), z0);
+    q.i0 = q.h0 + 2.0 * zb;
+    q.i1 = q.h1 - 2.0 * zb;
+    q.e0 = max(sqrt(across0 + q.i0 * q.i0), 1e-12);
+    q.e1 = max(sqrt(across1 + q.i1 * q.i1), z0);
     q.a0 = frame.profile_a[0][c];
     q.a1 = frame.profile_a[1][c];
     q.c0 = frame.profile_b[0][c] / z0;
@@ -252,8 +253,7 @@ float profile_rd_between(int c, vec3 d, vec3 n_out, vec3 n_in)
         return profile_rd(c, length(d));
     Sources q = place_sources(c, d, n_out, n_in);
     float sum = source_term(q.a0, q.c0, q.s0, q.h0, q.d0) + source_term(q.a1, q.c1, q.s1, q.h1, q.d1);
-    sum += q.w * (source_term(-q.a0, q.c0, q.s0, q.h0 + 2.0 * q.zb, q.e0) +
-                  source_term(-q.a1, q.c1, q.s1, q.h1 - 2.0 * q.zb, q.e1));
+    sum += q.w * (source_term(-q.a0, q.c0, q.s0, q.i0, q.e0) + source_term(-q.a1, q.c1, q.s1, q.i1, q.e1));
     return max(sum, 0.0) * sphere_factor(c, d, n_out, n_in);
 }
 
@@ -338,11 +338,10 @@ vec3 rd_disc_between(float radius, vec3 d, vec3 n_out, vec3 n_in)
             continue;
         }
         Sources q = place_sources(c, d, n_out, n_in);
-        float i0 = q.h0 + 2.0 * q.zb, i1 = q.h1 - 2.0 * q.zb;
         sum[c] = source_disc(q.a0, q.c0, q.s0, q.h0, radius, disc_nearest(q.d0, q.h0, radius)) +
                  source_disc(q.a1, q.c1, q.s1, q.h1, radius, disc_nearest(q.d1, q.h1, radius)) +
-                 q.w * (source_disc(-q.a0, q.c0, q.s0, i0, radius, disc_nearest(q.e0, i0, radius)) +
-                        source_disc(-q.a1, q.c1, q.s1, i1, radius, disc_nearest(q.e1, i1, radius)));
+                 q.w * (source_disc(-q.a0, q.c0, q.s0, q.i0, radius, disc_nearest(q.e0, q.i0, radius)) +
+                        source_disc(-q.a1, q.c1, q.s1, q.i1, radius, disc_nearest(q.e1, q.i1, radius)));
         sum[c] *= sphere_factor(c, d, n_out, n_in);
     }
     return max(sum, vec3(0.0));
