@@ -271,7 +271,7 @@ static double integrate_disc_between(const struct profile *p, double radius, con
 /* The scatter pass's near disc across an edge or through a thin part (profile_disc_between) against the integral
  * of R between points over it: a disc on the exit's plane and on a slab's far face (3 mm down), centred under the
  * exit point and 2 to 19 radii beside it. The disc 19 mm beside the exit on its plane is the bunny's chest lit by
- * its flank: taken under the exit point (the former rd_disc_between), it held about 1e4 times its light. */
+ * its flank: taken under the exit point (the former rd_disc_between), it held 10^4-10^5 times its light. */
 static void discs_between(void)
 {
     const double sa[] = {0.0071, 0.032}, ss[] = {3.00, 0.74}, radius[] = {0.5, 1.0, 2.0}, beside[] = {0.0, 2.0, 4.0, 19.0};
