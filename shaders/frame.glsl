@@ -17,7 +17,8 @@ const float MIN_AREA_COS = 0.1;
 
 layout(std140, set = 0, binding = 0) uniform Frame {
     mat4 view_clip[MAX_VIEWS];     // world -> clip of projection image k (orthographic)
-    vec4 view_origin[MAX_VIEWS];   // world position of texel corner (0,0) on the depth-0 plane
+    vec4 view_origin[MAX_VIEWS];   // world position of texel corner (0,0) on the depth-0 plane; w: the view's
+                                   // owned image is its side >> w
     vec4 view_du[MAX_VIEWS];       // xyz: world step of one texel along x; w: image side (texels)
     vec4 view_dv[MAX_VIEWS];       // xyz: world step of one texel along y; w: texel size (scene units)
     vec4 view_dir[MAX_VIEWS];      // direction view k looks along; depth = dot(p - origin, dir)
@@ -40,7 +41,7 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     vec4 near_rd[NEAR_TABLE];
     vec4 single_albedo;            // xyz: sigma_s / sigma_t (single scattering); w: g
     vec4 single_sigma_t;           // xyz: sigma_t = sigma_s + sigma_a (mm^-1)
-    vec4 owned;                    // x: the owned images' side is the projection images' >> x (ownership.comp);
+    vec4 owned;                    // x: the owned images' layers are the front projection image's side >> x;
                                    // y: views drawn
     // The far annulus (outside the near disc), per channel (c * MAX_SAMPLES + j) or shared (first
     // n): x radius (mm), y weight (1 / (n pdf)), zw unit direction on the projection plane.

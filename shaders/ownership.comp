@@ -1,10 +1,11 @@
 // ownership.comp - each projection image's share of the surface it shows. The owned images hold, at
-// 2^-frame.owned.x the projection images' resolution, their mean flux times the view's weight
+// 2^-frame.view_origin[k].w the projection images' resolution, their mean flux times the view's weight
 // among the views that see that surface point: a partition of unity over the views, by how squarely
 // each faces the point, so the far pass can gather from every view and count each lit point once.
-// Alpha is the flux's r + g + b times e^(rate (depth - centre)) (frame.owned.zw), so that the mip
-// chain's mean of it over the mean flux is the depth where the light is, weighted as R_d weighs it
-// (exponentially: the nearest light counts most; 0 where there is none).
+// Alpha is the mean over the texels an owned texel stands for of their flux's r + g + b times
+// e^(rate (depth - centre)) (frame.owned.zw), times the share, so that the mip chain's mean of it over
+// the mean flux is the depth where the light is, weighted as R_d weighs it (exponentially: the nearest
+// light counts most; 0 where there is none).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "backend.glsl"
@@ -28,11 +29,27 @@ float share_weight(int k, float facing, vec3 n)
     return facing_weight(facing) * (k >= CAMERA_VIEWS && behind ? 1e6 : 1.0);
 }
 
+// The mean of r + g + b times e^(rate (depth - centre)) over the block x block texels at q: each texel
+// at its own depth. One depth for the block (its centre texel's) put a thin part's light at the
+// depth of whatever lay behind it in the same block (a back-lit bunny's ear 0.92 of the reference's
+// light, 0.94 with this, at 256^2).
+float weighted_flux(int k, ivec2 q, int block)
+{
+    float sum = 0.0;
+    for (int y = 0; y < block; y++)
+        for (int x = 0; x < block; x++) {
+            vec4 f = texelFetch(projection_images, ivec3(q * block + ivec2(x, y), k), 0);
+            if (f.a >= 0.0)
+                sum += (f.r + f.g + f.b) * exp(frame.owned.z * (f.a - frame.owned.w));
+        }
+    return sum / float(block * block);
+}
+
 void main()
 {
     int k = push.first_view.x + int(gl_GlobalInvocationID.z);
     ivec2 q = ivec2(gl_GlobalInvocationID.xy);
-    int shift = int(frame.owned.x), side = int(frame.view_du[k].w) >> shift;
+    int shift = int(frame.view_origin[k].w), side = int(frame.view_du[k].w) >> shift;
     if (q.x >= side || q.y >= side)
         return;
     // Level `shift` of the projection images: the mean flux of the texels this one stands for.
@@ -62,7 +79,5 @@ void main()
         if (j != k && w > 1e-3 * own && visible_in(j, p, n))
             total += w;
     }
-    vec3 owned = flux * (own / total);
-    imageStore(owned_images, ivec3(q, k),
-               vec4(owned, (owned.r + owned.g + owned.b) * exp(frame.owned.z * (texel.a - frame.owned.w))));
+    imageStore(owned_images, ivec3(q, k), vec4(flux, weighted_flux(k, q, block)) * (own / total));
 }

@@ -350,18 +350,18 @@ vec3 rd_disc_between(float radius, vec3 d, vec3 n_out, vec3 n_in)
 // Mean flux density over about `area_texels` texels of view k's projection image around `at`, from
 // the mip chain of the gathered images (bilinear within the nearest level). A far sample stands for
 // its whole ring segment, so it returns that segment's mean instead of one texel (the prefiltering of
-// translucent shadow maps). The owned images have a lower resolution (frame.owned), and their alpha
+// translucent shadow maps). The owned images have a lower resolution (frame.view_origin[k].w), and their alpha
 // weighs the flux by its depth (ownership.comp, footprint_light).
 // Reads stay inside the view's corner of its layer, the only part of the side layers' levels that is
 // written.
 vec4 prefiltered(int k, vec2 at, float area_texels)
 {
-    int shift = OWNED ? int(frame.owned.x) : 0;
+    int shift = OWNED ? int(frame.view_origin[k].w) : 0, layer_shift = OWNED ? int(frame.owned.x) : 0;
     float scale = exp2(-float(shift));
     int side = int(frame.view_du[k].w) >> shift;
     float lod = clamp(0.5 * log2(max(area_texels * scale * scale, 1.0)) + LOD_BIAS, 0.0, float(findMSB(side)));
     int finer = int(lod);   // the sampler rounds lod to the nearest level, this one or the next
-    float level_side = float(side >> finer), layer_side = float((int(frame.view_du[0].w) >> shift) >> finer);
+    float level_side = float(side >> finer), layer_side = float((int(frame.view_du[0].w) >> layer_shift) >> finer);
     vec3 uvw = vec3(clamp(at * scale * exp2(-float(finer)), vec2(1.0), vec2(max(level_side - 1.0, 1.0))) / layer_side,
                     float(k));
     if (OWNED)

@@ -81,8 +81,8 @@ static lucent_status plan_camera(const lucent_scene *s, const struct lucent_mesh
 }
 
 /* Projection image k: orthographic along dir, fitted to the bounding sphere. Texel (0,0) is at
- * view_origin, stepping view_du/dv. */
-static void plan_view(int k, const double dir[3], const double up[3], int size, double radius,
+ * view_origin, stepping view_du/dv; its owned image is its side >> owned_shift. */
+static void plan_view(int k, const double dir[3], const double up[3], int size, int owned_shift, double radius,
                       struct frame_uniforms *u)
 {
     double clip[16];
@@ -100,7 +100,7 @@ static void plan_view(int k, const double dir[3], const double up[3], int size, 
     double du[3], dv[3], zero[3] = {0, 0, 0};
     v3_scale_add(zero, v.right, texel, du);
     v3_scale_add(zero, v.down, texel, dv);
-    v3_copy_f4(origin, 0.0, u->view_origin[k]);
+    v3_copy_f4(origin, owned_shift, u->view_origin[k]);
     v3_copy_f4(du, size, u->view_du[k]);
     v3_copy_f4(dv, texel, u->view_dv[k]);
     v3_copy_f4(v.forward, 0.0, u->view_dir[k]);
@@ -116,8 +116,8 @@ static void plan_views(const lucent_scene *s, const struct view_frame *cam, doub
     const double *ups[FRAME_CAMERA_VIEWS] = {up_cam, up_cam, up_cam, cam->forward, cam->forward};
     plan->side_projection_size = frame_side_projection_size(s);
     for (int k = 0; k < FRAME_CAMERA_VIEWS; k++)
-        plan_view(k, dirs[k], ups[k], k == 0 ? s->projection_size : plan->side_projection_size, radius,
-                  &plan->uniforms);
+        plan_view(k, dirs[k], ups[k], k == 0 ? s->projection_size : plan->side_projection_size,
+                  frame_owned_shift(s->projection_size), radius, &plan->uniforms);
 }
 
 void frame_light_shares(const lucent_scene *s, const struct lucent_mesh *m, const double forward[3], double min_away,
@@ -221,7 +221,8 @@ static void plan_light_views(const lucent_scene *s, const struct lucent_mesh *me
             dir[a] = li->type == LUCENT_LIGHT_POINT ? -pos[best][a] : li->direction[a];
         v3_normalize(dir);
         const double *up = fabs(v3_dot(dir, up_cam)) < 0.9 ? up_cam : cam->forward;
-        plan_view(plan->view_count, dir, up, plan->side_projection_size, radius, &plan->uniforms);
+        plan_view(plan->view_count, dir, up, plan->side_projection_size,
+                  frame_light_owned_shift(plan->side_projection_size), radius, &plan->uniforms);
         plan->view_count++;
         plan->transmission_reason[best] = "light view";
     }
@@ -468,6 +469,11 @@ int frame_owned_shift(int projection_size)
     while (shift < 2 && (projection_size >> shift) > 128)
         shift++;
     return shift;
+}
+
+int frame_light_owned_shift(int side_size)
+{
+    return frame_owned_shift(side_size);
 }
 
 uint32_t frame_far_blocks(uint32_t pixels, uint32_t block)

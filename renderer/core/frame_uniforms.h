@@ -21,7 +21,7 @@
 
 struct frame_uniforms {
     float view_clip[FRAME_MAX_VIEWS][16];
-    float view_origin[FRAME_MAX_VIEWS][4];
+    float view_origin[FRAME_MAX_VIEWS][4];   /* w: the view's owned image is its side >> w */
     float view_du[FRAME_MAX_VIEWS][4];
     float view_dv[FRAME_MAX_VIEWS][4];
     float view_dir[FRAME_MAX_VIEWS][4];
@@ -41,7 +41,7 @@ struct frame_uniforms {
     float near_rd[FRAME_NEAR_TABLE][4];
     float single_albedo[4];
     float single_sigma_t[4];
-    float owned[4];   /* x: the owned images' side is the projection images' >> x (frame_owned_shift);
+    float owned[4];   /* x: the owned images' layers are the front projection image's side >> x (frame_owned_shift);
                        * y: views drawn (frame_plan.view_count); z: the rate (per scene unit) and
                        * w: the centre depth of the owned images' depth weights e^(z (depth - w)) */
     float samples[3 * LUCENT_MAX_SAMPLES][4];

@@ -90,14 +90,17 @@ static void blit_level(const struct gl_targets *t, GLuint texture, uint32_t leve
 }
 
 /* The mip chain of the projection or owned images, as frame_record.c's record_mips: the front layer whole,
- * the side and light layers' corners only. */
+ * the side layers' corners (side_size) and the light layers' (light_size) only. */
 static void make_mips(const struct gl_targets *t, GLuint texture, uint32_t levels, uint32_t size, uint32_t side_size,
-                      int side_views)
+                      uint32_t light_size, int side_views)
 {
     for (uint32_t level = 1; level < levels; level++) {
         blit_level(t, texture, level, size, 0);
-        for (int layer = 1; side_size >> level && layer <= side_views; layer++)
-            blit_level(t, texture, level, side_size, layer);
+        for (int layer = 1; layer <= side_views; layer++) {
+            uint32_t corner = layer <= SIDE_VIEWS ? side_size : light_size;
+            if (corner >> level)
+                blit_level(t, texture, level, corner, layer);
+        }
     }
 }
 
@@ -110,13 +113,19 @@ static void draw_ownership(const struct gl_frame_gpu *gpu, int side_views)
     glBindImageTexture(10, t->owned, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     int shift = frame_owned_shift((int)t->projection_size);
     GLuint front = t->projection_size >> shift, sides = t->side_size >> shift;
+    GLuint lights = t->side_size >> frame_light_owned_shift((int)t->side_size);
     int32_t first_view[2] = {0, 0};
     push(gpu, first_view, sizeof first_view);
     glDispatchCompute((front + 7) / 8, (front + 7) / 8, 1);
     first_view[0] = 1;
     push(gpu, first_view, sizeof first_view);
     if (side_views)
-        glDispatchCompute((sides + 7) / 8, (sides + 7) / 8, (GLuint)side_views);
+        glDispatchCompute((sides + 7) / 8, (sides + 7) / 8, (GLuint)(side_views < SIDE_VIEWS ? side_views : SIDE_VIEWS));
+    if (side_views > SIDE_VIEWS) {
+        first_view[0] = 1 + SIDE_VIEWS;
+        push(gpu, first_view, sizeof first_view);
+        glDispatchCompute((lights + 7) / 8, (lights + 7) / 8, (GLuint)(side_views - SIDE_VIEWS));
+    }
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
                     GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
@@ -210,11 +219,12 @@ lucent_status gl_frame_draw(const struct gl_frame_gpu *gpu, const struct gpu_fra
     int side_views = plan->view_count - 1;
     if (plan->gather_owned) {   /* level frame_owned_shift() of the projection images is the owned images' source */
         int shift = frame_owned_shift((int)t->projection_size);
-        make_mips(t, t->projection, (uint32_t)shift + 1, t->projection_size, t->side_size, side_views);
+        make_mips(t, t->projection, (uint32_t)shift + 1, t->projection_size, t->side_size, t->side_size, side_views);
         draw_ownership(gpu, side_views);
-        make_mips(t, t->owned, t->owned_levels, t->projection_size >> shift, t->side_size >> shift, side_views);
+        make_mips(t, t->owned, t->owned_levels, t->projection_size >> shift, t->side_size >> shift,
+                  t->side_size >> frame_light_owned_shift((int)t->side_size), side_views);
     } else {
-        make_mips(t, t->projection, t->projection_levels, t->projection_size, t->side_size, side_views);
+        make_mips(t, t->projection, t->projection_levels, t->projection_size, t->side_size, t->side_size, side_views);
     }
     stamp(gpu, TS_PROJECTION);
     if ((st = gl_check("the shadow and projection passes", err)))

@@ -144,10 +144,17 @@ static void record_ownership(const struct frame_gpu *gpu, uint32_t side_views)
     vkCmdPushConstants(cmd, gpu->pipes->scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof first_view, first_view);
     int shift = frame_owned_shift((int)t->projection_size);
     uint32_t front = t->projection_size >> shift, sides = t->side_size >> shift;
+    uint32_t lights = t->side_size >> frame_light_owned_shift((int)t->side_size);
     vkCmdDispatch(cmd, (front + 7) / 8, (front + 7) / 8, 1);
     first_view[0] = 1;
     vkCmdPushConstants(cmd, gpu->pipes->scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof first_view, first_view);
-    vkCmdDispatch(cmd, (sides + 7) / 8, (sides + 7) / 8, side_views);
+    vkCmdDispatch(cmd, (sides + 7) / 8, (sides + 7) / 8, side_views < SIDE_VIEWS ? side_views : SIDE_VIEWS);
+    if (side_views > SIDE_VIEWS) {
+        first_view[0] = 1 + SIDE_VIEWS;
+        vkCmdPushConstants(cmd, gpu->pipes->scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof first_view,
+                           first_view);
+        vkCmdDispatch(cmd, (lights + 7) / 8, (lights + 7) / 8, side_views - SIDE_VIEWS);
+    }
 }
 
 /* Level i of a layer is the 2x2 mean of level i-1: flux per unit of image area, averaged, so a texel
@@ -168,10 +175,10 @@ static void blit_level(VkCommandBuffer cmd, const struct vk_image *img, uint32_t
 }
 
 /* The mip chain of the projection or the owned images, `levels` levels of it, whose level 0 (of side
- * `size`; the `side_views` layers after it, side and light views, `side_size`) was just written in
- * layout `written_as`. */
+ * `size`; the `side_views` layers after it, side views of `side_size` and then light views of
+ * `light_size`) was just written in layout `written_as`. */
 static void record_mips(const struct frame_gpu *gpu, const struct vk_image *img, VkImageLayout written_as,
-                        uint32_t levels, uint32_t size, uint32_t side_size, uint32_t side_views)
+                        uint32_t levels, uint32_t size, uint32_t side_size, uint32_t light_size, uint32_t side_views)
 {
     VkCommandBuffer cmd = gpu->ctx->cmd;
     VkPipelineStageFlags drawn = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
@@ -188,7 +195,9 @@ static void record_mips(const struct frame_gpu *gpu, const struct vk_image *img,
                              0, NULL, 1, &b);
         blit_level(cmd, img, level, size, 0, 1);
         if (side_views && side_size >> level)
-            blit_level(cmd, img, level, side_size, 1, side_views);
+            blit_level(cmd, img, level, side_size, 1, side_views < SIDE_VIEWS ? side_views : SIDE_VIEWS);
+        if (side_views > SIDE_VIEWS && light_size >> level)
+            blit_level(cmd, img, level, light_size, 1 + SIDE_VIEWS, side_views - SIDE_VIEWS);
         b = level_barrier(img, level, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                           VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT);
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0,
@@ -294,12 +303,14 @@ lucent_status frame_record(const struct frame_gpu *gpu, const struct gpu_frame *
     VkImageLayout drawn = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     if (owned) {   /* level frame_owned_shift() of the projection images is the owned images' source */
         int shift = frame_owned_shift((int)t->projection_size);
-        record_mips(gpu, &t->projection, drawn, (uint32_t)shift + 1, t->projection_size, t->side_size, side_views);
+        record_mips(gpu, &t->projection, drawn, (uint32_t)shift + 1, t->projection_size, t->side_size, t->side_size,
+                    side_views);
         record_ownership(gpu, side_views);
         record_mips(gpu, &t->owned, VK_IMAGE_LAYOUT_GENERAL, t->owned.levels, t->projection_size >> shift,
-                    t->side_size >> shift, side_views);
+                    t->side_size >> shift, t->side_size >> frame_light_owned_shift((int)t->side_size), side_views);
     } else {
-        record_mips(gpu, &t->projection, drawn, t->projection.levels, t->projection_size, t->side_size, side_views);
+        record_mips(gpu, &t->projection, drawn, t->projection.levels, t->projection_size, t->side_size, t->side_size,
+                    side_views);
     }
     stamp(gpu, TS_PROJECTION);
     record_gbuffer(gpu, plan, &frame->full, plan->cull_camera);
