@@ -33,8 +33,23 @@ mesh_id() { json_field "$1" '["id"]'; }
 sha() { sha256sum "$1" | cut -d' ' -f1; }
 temporaries() { find "$1" -name '.tmp-*' | wc -l; }
 render_mesh() { req "$work/r.png" GET "$base/v1/render?w=48&h=48&mesh=$1&preset=$2"; }
-# importers: lucent-import processes (run by descriptor, their command line starts with the name).
-importers() { pgrep -f '^lucent-import --format' | wc -l; }
+# importers_of PID: the lucent-import processes (run by descriptor, their command line starts with the
+# name) descended from PID. Other tests run importers at the same time (import_sandbox under ctest -j2),
+# so counting every one on the machine once failed this test.
+importers_of() {
+    local p q
+    for p in $(pgrep -f '^lucent-import --format'); do
+        q=$p
+        while [[ -n $q && $q != 1 && $q != "$1" ]]; do q=$(awk '/^PPid:/ { print $2 }' "/proc/$q/status" 2>/dev/null); done
+        [[ $q == "$1" ]] && echo "$p"
+    done
+}
+# alive PID...: how many of these are still lucent-import processes (not exited, not zombies).
+alive() {
+    local p n=0
+    for p in "$@"; do tr '\0' ' ' <"/proc/$p/cmdline" 2>/dev/null | grep -q '^lucent-import --format' && n=$((n + 1)); done
+    echo "$n"
+}
 
 # ---- kill -9 during an upload ----
 store=$work/store
@@ -57,16 +72,17 @@ start S1 --store-dir "$store"
 c=$(upload "$work/a.obj" "$work/a.json"); a=$(mesh_id "$work/a.json")
 check "mesh A stored ($c)" [ "$c" = 201 ]
 upload "$work/big.obj" "$work/big.json" >/dev/null &
-for _ in $(seq 1 600); do (( $(importers) > 0 )) && break; sleep 0.05; done
-check "an upload is being imported: $(importers) importer, $(temporaries "$store") temporaries in the store" \
-    [ "$(importers)" -ge 1 ]
+ours=()
+for _ in $(seq 1 600); do mapfile -t ours < <(importers_of "$pid"); (( ${#ours[@]} > 0 )) && break; sleep 0.05; done
+check "an upload is being imported: ${#ours[@]} importer, $(temporaries "$store") temporaries in the store" \
+    [ "${#ours[@]}" -ge 1 ]
 kill -KILL "$pid"; wait "$pid" 2>/dev/null
 # The importer dies with the daemon (PR_SET_PDEATHSIG); a restart must cope with what it leaves.
 t0=$(date +%s%N)
-for _ in $(seq 1 600); do (( $(importers) == 0 )) && break; sleep 0.02; done
+for _ in $(seq 1 600); do (( $(alive "${ours[@]}") == 0 )) && break; sleep 0.02; done
 gone_ms=$(ms_since "$t0")
-check "the importer died with the daemon: $(importers) left after $gone_ms ms (bound 1000 ms; the import takes seconds)" \
-    [ "$(importers)" = 0 -a "$gone_ms" -lt 1000 ]
+check "the importer died with the daemon: $(alive "${ours[@]}") left after $gone_ms ms (bound 1000 ms; the import takes seconds)" \
+    [ "$(alive "${ours[@]}")" = 0 -a "$gone_ms" -lt 1000 ]
 left=$(temporaries "$store")
 start S2 --store-dir "$store"
 removed=$(grep -c 'removed the unfinished or damaged file' "$log")
