@@ -476,6 +476,13 @@ int frame_light_owned_shift(int side_size)
     return frame_owned_shift(side_size);
 }
 
+struct owned_sides frame_owned_sides(uint32_t projection_size, uint32_t side_size)
+{
+    int shift = frame_owned_shift((int)projection_size);
+    return (struct owned_sides){projection_size >> shift, side_size >> shift,
+                                side_size >> frame_light_owned_shift((int)side_size)};
+}
+
 uint32_t frame_far_blocks(uint32_t pixels, uint32_t block)
 {
     return (pixels + block - 1) / block;

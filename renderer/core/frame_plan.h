@@ -32,6 +32,12 @@ int frame_owned_shift(int projection_size);
  * placed at the samples' footprints, and at the side views' resolution a back-lit bunny's ear spread its
  * light over its outline (0.94 of the reference's light at 256^2 with a 64^2 owned image, 0.96 at 128^2). */
 int frame_light_owned_shift(int side_size);
+/* The owned images' sides: the front view's, the camera side views' (both >> frame_owned_shift of the
+ * front's size) and the light views' (>> frame_light_owned_shift). */
+struct owned_sides {
+    uint32_t front, sides, lights;
+};
+struct owned_sides frame_owned_sides(uint32_t projection_size, uint32_t side_size);
 /* Blocks along an image side of `pixels` pixels, the last one partial where the side is not a multiple. */
 uint32_t frame_far_blocks(uint32_t pixels, uint32_t block);
 

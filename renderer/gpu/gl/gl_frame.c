@@ -104,27 +104,24 @@ static void make_mips(const struct gl_targets *t, GLuint texture, uint32_t level
     }
 }
 
-static void draw_ownership(const struct gl_frame_gpu *gpu, int side_views)
+static void draw_ownership(const struct gl_frame_gpu *gpu, struct owned_sides o, int side_views)
 {
     const struct gl_targets *t = gpu->targets;
     glUseProgram(gpu->programs->ownership);
     bind_texture(1, t->projection, t->filtered);
     bind_texture(9, t->normals, t->nearest);
     glBindImageTexture(10, t->owned, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    int shift = frame_owned_shift((int)t->projection_size);
-    GLuint front = t->projection_size >> shift, sides = t->side_size >> shift;
-    GLuint lights = t->side_size >> frame_light_owned_shift((int)t->side_size);
     int32_t first_view[2] = {0, 0};
     push(gpu, first_view, sizeof first_view);
-    glDispatchCompute((front + 7) / 8, (front + 7) / 8, 1);
+    glDispatchCompute((o.front + 7) / 8, (o.front + 7) / 8, 1);
     first_view[0] = 1;
     push(gpu, first_view, sizeof first_view);
     if (side_views)
-        glDispatchCompute((sides + 7) / 8, (sides + 7) / 8, (GLuint)(side_views < SIDE_VIEWS ? side_views : SIDE_VIEWS));
+        glDispatchCompute((o.sides + 7) / 8, (o.sides + 7) / 8, (GLuint)(side_views < SIDE_VIEWS ? side_views : SIDE_VIEWS));
     if (side_views > SIDE_VIEWS) {
         first_view[0] = 1 + SIDE_VIEWS;
         push(gpu, first_view, sizeof first_view);
-        glDispatchCompute((lights + 7) / 8, (lights + 7) / 8, (GLuint)(side_views - SIDE_VIEWS));
+        glDispatchCompute((o.lights + 7) / 8, (o.lights + 7) / 8, (GLuint)(side_views - SIDE_VIEWS));
     }
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
                     GL_TEXTURE_UPDATE_BARRIER_BIT);
@@ -219,10 +216,10 @@ lucent_status gl_frame_draw(const struct gl_frame_gpu *gpu, const struct gpu_fra
     int side_views = plan->view_count - 1;
     if (plan->gather_owned) {   /* level frame_owned_shift() of the projection images is the owned images' source */
         int shift = frame_owned_shift((int)t->projection_size);
+        struct owned_sides o = frame_owned_sides(t->projection_size, t->side_size);
         make_mips(t, t->projection, (uint32_t)shift + 1, t->projection_size, t->side_size, t->side_size, side_views);
-        draw_ownership(gpu, side_views);
-        make_mips(t, t->owned, t->owned_levels, t->projection_size >> shift, t->side_size >> shift,
-                  t->side_size >> frame_light_owned_shift((int)t->side_size), side_views);
+        draw_ownership(gpu, o, side_views);
+        make_mips(t, t->owned, t->owned_levels, o.front, o.sides, o.lights, side_views);
     } else {
         make_mips(t, t->projection, t->projection_levels, t->projection_size, t->side_size, t->side_size, side_views);
     }

@@ -128,7 +128,7 @@ static VkImageMemoryBarrier level_barrier(const struct vk_image *img, uint32_t l
 /* Each view's share of the flux it shows, into level 0 of the owned images (ownership.comp, from level
  * frame_owned_shift() of the projection images): every texel of every view's square (the side
  * layers' corners only), the front view, and the side and light views, in one dispatch each. */
-static void record_ownership(const struct frame_gpu *gpu, uint32_t side_views)
+static void record_ownership(const struct frame_gpu *gpu, struct owned_sides o, uint32_t side_views)
 {
     VkCommandBuffer cmd = gpu->ctx->cmd;
     const struct render_targets *t = gpu->targets;
@@ -142,18 +142,15 @@ static void record_ownership(const struct frame_gpu *gpu, uint32_t side_views)
                             0, NULL);
     int32_t first_view[2] = {0, 0};
     vkCmdPushConstants(cmd, gpu->pipes->scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof first_view, first_view);
-    int shift = frame_owned_shift((int)t->projection_size);
-    uint32_t front = t->projection_size >> shift, sides = t->side_size >> shift;
-    uint32_t lights = t->side_size >> frame_light_owned_shift((int)t->side_size);
-    vkCmdDispatch(cmd, (front + 7) / 8, (front + 7) / 8, 1);
+    vkCmdDispatch(cmd, (o.front + 7) / 8, (o.front + 7) / 8, 1);
     first_view[0] = 1;
     vkCmdPushConstants(cmd, gpu->pipes->scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof first_view, first_view);
-    vkCmdDispatch(cmd, (sides + 7) / 8, (sides + 7) / 8, side_views < SIDE_VIEWS ? side_views : SIDE_VIEWS);
+    vkCmdDispatch(cmd, (o.sides + 7) / 8, (o.sides + 7) / 8, side_views < SIDE_VIEWS ? side_views : SIDE_VIEWS);
     if (side_views > SIDE_VIEWS) {
         first_view[0] = 1 + SIDE_VIEWS;
         vkCmdPushConstants(cmd, gpu->pipes->scatter_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof first_view,
                            first_view);
-        vkCmdDispatch(cmd, (lights + 7) / 8, (lights + 7) / 8, side_views - SIDE_VIEWS);
+        vkCmdDispatch(cmd, (o.lights + 7) / 8, (o.lights + 7) / 8, side_views - SIDE_VIEWS);
     }
 }
 
@@ -303,11 +300,11 @@ lucent_status frame_record(const struct frame_gpu *gpu, const struct gpu_frame *
     VkImageLayout drawn = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     if (owned) {   /* level frame_owned_shift() of the projection images is the owned images' source */
         int shift = frame_owned_shift((int)t->projection_size);
+        struct owned_sides o = frame_owned_sides(t->projection_size, t->side_size);
         record_mips(gpu, &t->projection, drawn, (uint32_t)shift + 1, t->projection_size, t->side_size, t->side_size,
                     side_views);
-        record_ownership(gpu, side_views);
-        record_mips(gpu, &t->owned, VK_IMAGE_LAYOUT_GENERAL, t->owned.levels, t->projection_size >> shift,
-                    t->side_size >> shift, t->side_size >> frame_light_owned_shift((int)t->side_size), side_views);
+        record_ownership(gpu, o, side_views);
+        record_mips(gpu, &t->owned, VK_IMAGE_LAYOUT_GENERAL, t->owned.levels, o.front, o.sides, o.lights, side_views);
     } else {
         record_mips(gpu, &t->projection, drawn, t->projection.levels, t->projection_size, t->side_size, t->side_size,
                     side_views);
