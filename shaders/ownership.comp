@@ -29,18 +29,18 @@ float share_weight(int k, float facing, vec3 n)
     return facing_weight(facing) * (k >= CAMERA_VIEWS && behind ? 1e6 : 1.0);
 }
 
-// The mean of r + g + b times e^(rate (depth - centre)) over the block x block texels at q: each texel
-// at its own depth. One depth for the block (its centre texel's) put a thin part's light at the
-// depth of whatever lay behind it in the same block (a back-lit bunny's ear 0.92 of the reference's
-// light, 0.94 with this, at 256^2).
-float weighted_flux(int k, ivec2 q, int block)
+// The mean flux of the block x block texels at q (rgb; uncovered texels hold none) and the mean of their
+// r + g + b times e^(rate (depth - centre)) (a), each texel at its own depth. One depth for the block (its
+// centre texel's) put a thin part's light at the depth of whatever lay behind it in the same block (a
+// back-lit bunny's ear 0.92 of the reference's light, 0.94 with this, at 256^2).
+vec4 block_flux(int k, ivec2 q, int block)
 {
-    float sum = 0.0;
+    vec4 sum = vec4(0.0);
     for (int y = 0; y < block; y++)
         for (int x = 0; x < block; x++) {
             vec4 f = texelFetch(projection_images, ivec3(q * block + ivec2(x, y), k), 0);
             if (f.a >= 0.0)
-                sum += (f.r + f.g + f.b) * exp(frame.owned.z * (f.a - frame.owned.w));
+                sum += vec4(f.rgb, (f.r + f.g + f.b) * exp(frame.owned.z * (f.a - frame.owned.w)));
         }
     return sum / float(block * block);
 }
@@ -52,19 +52,18 @@ void main()
     int shift = int(frame.view_origin[k].w), side = int(frame.view_du[k].w) >> shift;
     if (q.x >= side || q.y >= side)
         return;
-    // Level `shift` of the projection images: the mean flux of the texels this one stands for.
-    vec3 flux = texelFetch(projection_images, ivec3(q, k), shift).rgb;
+    int block = 1 << shift;
+    vec4 flux = block_flux(k, q, block);
     // The share is decided at the first covered texel of the four at the block's centre, else of its
     // corners; texels differ from it only where the view's own silhouette crosses the block.
-    int block = 1 << shift;
     ivec2 t = q * block;
     vec4 texel = vec4(0.0, 0.0, 0.0, -1.0);
-    for (int i = 0; i < 8 && texel.a < 0.0 && flux != vec3(0.0); i++) {
+    for (int i = 0; i < 8 && texel.a < 0.0 && flux.rgb != vec3(0.0); i++) {
         ivec2 corner = ivec2(i & 1, (i >> 1) & 1);
         t = q * block + (i < 4 ? max(block / 2 - 1, 0) + corner * min(block - 1, 1) : corner * (block - 1));
         texel = texelFetch(projection_images, ivec3(t, k), 0);
     }
-    if (texel.a < 0.0 || flux == vec3(0.0)) {
+    if (texel.a < 0.0 || flux.rgb == vec3(0.0)) {
         imageStore(owned_images, ivec3(q, k), vec4(0.0));
         return;
     }
@@ -79,5 +78,5 @@ void main()
         if (j != k && w > 1e-3 * own && visible_in(j, p, n))
             total += w;
     }
-    imageStore(owned_images, ivec3(q, k), vec4(flux, weighted_flux(k, q, block)) * (own / total));
+    imageStore(owned_images, ivec3(q, k), flux * (own / total));
 }

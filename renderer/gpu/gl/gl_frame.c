@@ -214,10 +214,8 @@ lucent_status gl_frame_draw(const struct gl_frame_gpu *gpu, const struct gpu_fra
         if (passes.projection[which])
             draw_projection(gpu, &passes, which, projection, &frame->sides, plan->cull_back_faces);
     int side_views = plan->view_count - 1;
-    if (plan->gather_owned) {   /* level frame_owned_shift() of the projection images is the owned images' source */
-        int shift = frame_owned_shift((int)t->projection_size);
+    if (plan->gather_owned) {   /* the owned images are read instead of the projection images' mips, which are not made */
         struct owned_sides o = frame_owned_sides(t->projection_size, t->side_size);
-        make_mips(t, t->projection, (uint32_t)shift + 1, t->projection_size, t->side_size, t->side_size, side_views);
         draw_ownership(gpu, o, side_views);
         make_mips(t, t->owned, t->owned_levels, o.front, o.sides, o.lights, side_views);
     } else {

@@ -125,9 +125,10 @@ static VkImageMemoryBarrier level_barrier(const struct vk_image *img, uint32_t l
                                   .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, level, levels, 0, FRAME_MAX_VIEWS}};
 }
 
-/* Each view's share of the flux it shows, into level 0 of the owned images (ownership.comp, from level
- * frame_owned_shift() of the projection images): every texel of every view's square (the side
- * layers' corners only), the front view, and the side and light views, in one dispatch each. */
+/* Each view's share of the flux it shows, into level 0 of the owned images (ownership.comp, from level 0 of
+ * the projection images, which the projection passes and copy_sides leave readable by compute): every
+ * texel of every view's square (the side layers' corners only), the front view, and the side and light
+ * views, in one dispatch each. */
 static void record_ownership(const struct frame_gpu *gpu, struct owned_sides o, uint32_t side_views)
 {
     VkCommandBuffer cmd = gpu->ctx->cmd;
@@ -298,11 +299,8 @@ lucent_status frame_record(const struct frame_gpu *gpu, const struct gpu_frame *
     }
     const struct render_targets *t = gpu->targets;
     VkImageLayout drawn = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-    if (owned) {   /* level frame_owned_shift() of the projection images is the owned images' source */
-        int shift = frame_owned_shift((int)t->projection_size);
+    if (owned) {   /* the owned images are read instead of the projection images' mips, which are not made */
         struct owned_sides o = frame_owned_sides(t->projection_size, t->side_size);
-        record_mips(gpu, &t->projection, drawn, (uint32_t)shift + 1, t->projection_size, t->side_size, t->side_size,
-                    side_views);
         record_ownership(gpu, o, side_views);
         record_mips(gpu, &t->owned, VK_IMAGE_LAYOUT_GENERAL, t->owned.levels, o.front, o.sides, o.lights, side_views);
     } else {
